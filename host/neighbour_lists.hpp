@@ -1,0 +1,53 @@
+// Fixed-radius neighbour lists in CSR form, from a FLANN kd-tree, built on all cores.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace pnf::detail {
+
+// The neighbour lists of points [first_point, first_point + point_count) of a cloud.
+// List k is indices[offsets[k] .. offsets[k + 1]); offsets[0] = 0. Indices are ids in the
+// whole cloud, and every list holds its own point (distance 0).
+struct CsrLists {
+  std::size_t first_point = 0;
+  std::size_t point_count = 0;
+  std::vector<std::uint64_t> offsets;  // point_count + 1
+  std::vector<std::uint32_t> indices;  // offsets.back()
+};
+
+// A kd-tree over N points, searched in parallel with OpenMP. All distances here are plain
+// Euclidean distances in model units; FLANN's squared distances stay inside the .cpp.
+// Thread safety: const methods may run concurrently.
+class NeighbourSearch {
+ public:
+  // positions: N by 3, row-major, in model units. Copied into the tree.
+  NeighbourSearch(const double* positions, std::size_t point_count);
+  ~NeighbourSearch();
+  NeighbourSearch(const NeighbourSearch&) = delete;
+  NeighbourSearch& operator=(const NeighbourSearch&) = delete;
+
+  std::size_t size() const { return point_count_; }
+
+  // For every point, how many points lie within `radius` of it, the point itself included
+  // (|p - s| <= radius, inclusive). Allocates only the N counts.
+  std::vector<std::uint32_t> count_within(double radius) const;
+
+  // The lists of points [first, first + count) within `radius`, in the kd-tree's traversal order
+  // (deterministic). `counts` is what count_within returned for the same radius; it sizes the
+  // arrays before any search runs.
+  CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts) const;
+
+  // For up to `max_samples` points spread evenly over the cloud: the mean distance to their k
+  // nearest other points (duplicates count, at distance 0). Needs N >= k + 1.
+  std::vector<double> mean_knn_distance(int k, std::size_t max_samples) const;
+
+ private:
+  struct Tree;
+  std::size_t point_count_;
+  std::vector<double> positions_;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace pnf::detail

@@ -1,0 +1,54 @@
+#include "spatial_order.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace pnf::detail {
+namespace {
+
+constexpr int kBitsPerAxis = 21;  // 3 x 21 = 63 bits: the whole key fits one uint64
+constexpr double kCellsPerAxis = double((1u << kBitsPerAxis) - 1);
+
+// Spreads the low 21 bits of v so that there are two zero bits between each.
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& positions) {
+  const std::size_t n = positions.size();
+  Vec3 lo = {0, 0, 0}, hi = {0, 0, 0};
+  if (n > 0) lo = hi = positions[0];
+  for (const Vec3& p : positions) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  }
+  double extent = 0;
+  for (int k = 0; k < 3; ++k) extent = std::max(extent, hi[k] - lo[k]);
+  const double to_cells = extent > 0 ? kCellsPerAxis / extent : 0;
+
+  std::vector<std::uint64_t> keys(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t key = 0;
+    for (int k = 0; k < 3; ++k) {
+      auto cell = static_cast<std::uint64_t>((positions[i][k] - lo[k]) * to_cells);
+      key |= spread_bits(cell) << k;
+    }
+    keys[i] = key;
+  }
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  return order;
+}
+
+}  // namespace pnf::detail

@@ -1,0 +1,15 @@
+// Orders points along a space-filling curve so that neighbours sit near each other in memory.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pnf/point_cloud.hpp"
+
+namespace pnf::detail {
+
+// A permutation of 0..N-1: order[k] is the input index of the k-th point along the Morton
+// (Z-order) curve of the bounding box, 21 bits per axis; ties keep input order. Deterministic.
+std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& positions);
+
+}  // namespace pnf::detail

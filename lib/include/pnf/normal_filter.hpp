@@ -1,0 +1,108 @@
+// pnf::NormalFilter — the normal filter of Jones, Durand and Zwicker (2004) on an OpenCL device
+// or on the CPU reference.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pnf/filter_params.hpp"
+#include "pnf/point_cloud.hpp"
+
+namespace pnf {
+
+enum class Backend {
+  opencl,     // float32 OpenCL kernels on the selected device (default)
+  reference,  // double-precision C++ on all CPU cores, no OpenCL needed; the judge of the kernels
+};
+
+// Returns "opencl" or "reference".
+const char* to_string(Backend backend);
+
+// How and where the filter runs; fixed for the life of a NormalFilter.
+struct FilterOptions {
+  Backend backend = Backend::opencl;
+  // OpenCL device selector (SPEC syntax: cpu, gpu, accelerator, P:D, or part of a name). Empty:
+  // the PNF_DEVICE variable, then the first GPU, else the first CPU. Ignored by the reference.
+  std::string device;
+  // Neighbour lists (4 bytes a pair) larger than this are not kept for the whole cloud: the
+  // cloud is processed in chunks of points whose lists fit, rebuilt each pass. Same result,
+  // bounded memory. Default 1 GiB.
+  std::size_t memory_budget_bytes = std::size_t(1) << 30;
+  // Threads for the reference backend; 0 (default) means all cores.
+  int threads = 0;
+};
+
+// Where the mean surfel radius came from.
+enum class RadiusSource { not_used, given, property, estimate };
+const char* to_string(RadiusSource source);
+
+// What a run did, for the caller to report (the library never prints).
+struct FilterSummary {
+  std::size_t points = 0;
+  double mean_radius = 0;  // model units; 0 with Units::absolute
+  RadiusSource radius_source = RadiusSource::not_used;
+  double sigma_f = 0;  // model units
+  double sigma_g = 0;  // model units
+  double neighbours_mean = 0;
+  std::size_t neighbours_max = 0;
+  std::size_t neighbour_pairs = 0;  // sum of list lengths, per pass
+  std::size_t chunks = 0;           // 1 when the lists fit the memory budget
+  std::string backend;
+  std::string device;                 // the device, with platform and driver
+  double neighbour_seconds = 0;       // counting and building the lists (all passes if chunked)
+  double upload_seconds = 0;          // positions, normals and lists to the device
+  std::vector<double> pass_seconds;   // wall time of each pass
+  std::vector<double> kernel_seconds; // device time of each pass (OpenCL event profiling)
+};
+
+struct FilterResult {
+  std::vector<Vec3> normals;  // N unit normals, in input order
+  FilterSummary summary;
+};
+
+// Reported after each pass. Return false from the callback to cancel the run: it then throws
+// pnf::Error(cancelled) and returns nothing.
+struct PassProgress {
+  int pass = 0;    // 1-based pass just finished
+  int passes = 0;  // total passes
+  double seconds = 0;
+};
+using ProgressCallback = std::function<bool(const PassProgress&)>;
+
+// A filter bound to one backend and device. The OpenCL program is compiled once, at
+// construction; each run() builds the cloud's neighbour lists once and reuses them and the
+// device buffers across all passes. Not thread safe: use one NormalFilter per thread.
+class NormalFilter {
+ public:
+  // Throws pnf::Error(device) when the OpenCL backend finds no matching device, listing the
+  // devices it found, or when the kernels fail to build (with the build log).
+  explicit NormalFilter(const FilterOptions& options = {});
+  ~NormalFilter();
+  NormalFilter(NormalFilter&&) noexcept;
+  NormalFilter& operator=(NormalFilter&&) noexcept;
+
+  // Improves the normals of `cloud` (N positions and N oriented normals, optional N radii) as
+  // SPEC defines: `params.iterations` Jacobi passes of n' = C n / |C n|, C = adj(dF/dx)^T, never
+  // flipping a normal to the other side. Positions are not changed. Non-unit normals are
+  // normalised first. Throws pnf::Error: invalid_argument for bad params; invalid_input for a
+  // cloud without normals, with mismatched sizes, a NaN or infinite coordinate, a zero normal or
+  // a bad radius (naming the first offending vertex), or a mean radius that cannot be estimated;
+  // cancelled when `progress` returns false. An empty cloud gives an empty result.
+  FilterResult run(const PointCloud& cloud, const FilterParams& params = {}, const ProgressCallback& progress = {});
+
+  // The device in use, or "CPU reference (double)" for the reference backend.
+  std::string device_description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One-shot convenience: NormalFilter(options).run(cloud, params).normals' full result.
+FilterResult improve_normals(const PointCloud& cloud, const FilterParams& params = {},
+                             const FilterOptions& options = {});
+
+}  // namespace pnf

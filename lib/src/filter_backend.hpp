@@ -1,0 +1,37 @@
+// The interface both backends implement: the engine (normal_filter.cpp) does the ordering,
+// neighbour search and chunking; a backend holds the cloud and runs passes over CSR lists.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "neighbour_lists.hpp"
+
+namespace pnf::detail {
+
+// Exponent coefficients in model units^-2, as pnf_make_coeffs computes them (pnf_filter.h).
+struct Coefficients {
+  double inv_two_sigma_f2 = 0;
+  double inv_two_sigma_g2 = 0;
+};
+
+class FilterBackend {
+ public:
+  virtual ~FilterBackend() = default;
+  virtual std::string description() const = 0;
+  // Largest neighbour index array (bytes) a single upload_lists may carry.
+  virtual std::size_t max_list_bytes() const = 0;
+  // positions and normals: N by 3, row-major, re-centred, in curve order, unit normals.
+  virtual void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) = 0;
+  // The lists the next run_chunk uses. `lists` must stay alive until the next upload_lists.
+  virtual void upload_lists(const CsrLists& lists) = 0;
+  // New normals for the points of the current lists, from the current normals.
+  virtual void run_chunk(const Coefficients& coefficients) = 0;
+  // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,
+  // or 0 when not measured.
+  virtual double end_pass() = 0;
+  // The current normals, N by 3.
+  virtual std::vector<double> download_normals() = 0;
+};
+
+}  // namespace pnf::detail

@@ -1,0 +1,14 @@
+// The OpenCL backend: kernels/filter.cl in float32 on one device.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "filter_backend.hpp"
+
+namespace pnf::detail {
+
+// Picks the device (see ClRuntime) and builds the kernels once. Throws pnf::Error(device).
+std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector);
+
+}  // namespace pnf::detail
