@@ -30,6 +30,8 @@ class FilterBackend {
   // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,
   // or 0 when not measured.
   virtual double end_pass() = 0;
+  // Bytes of device memory this backend holds (0 for the host reference).
+  virtual std::size_t device_bytes() const = 0;
   // The current normals, N by 3.
   virtual std::vector<double> download_normals() = 0;
 };

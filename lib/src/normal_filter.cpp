@@ -185,6 +185,7 @@ FilterResult NormalFilter::run(const PointCloud& cloud, const FilterParams& para
     }
   }
 
+  summary.device_bytes = backend.device_bytes();
   const std::vector<double> out = backend.download_normals();
   result.normals.resize(cloud.size());
   for (std::size_t k = 0; k < cloud.size(); ++k) {

@@ -94,6 +94,10 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
+  std::size_t device_bytes() const override {
+    return 3 * point_count_ * 3 * sizeof(float) + offsets_capacity_ + indices_capacity_;
+  }
+
   std::vector<double> download_normals() override {
     return guarded([&] {
       std::vector<float> n(point_count_ * 3);

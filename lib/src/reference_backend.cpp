@@ -49,6 +49,8 @@ class ReferenceBackend : public FilterBackend {
     return 0;
   }
 
+  std::size_t device_bytes() const override { return 0; }
+
   std::vector<double> download_normals() override { return current_; }
 
  private:

@@ -50,6 +50,7 @@ struct FilterSummary {
   std::size_t neighbours_max = 0;
   std::size_t neighbour_pairs = 0;  // sum of list lengths, per pass
   std::size_t chunks = 0;           // 1 when the lists fit the memory budget
+  std::size_t device_bytes = 0;     // device buffers held (0 for the reference backend)
   std::string backend;
   std::string device;                 // the device, with platform and driver
   double neighbour_seconds = 0;       // counting and building the lists (all passes if chunked)

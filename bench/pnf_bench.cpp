@@ -1,0 +1,243 @@
+// pnf_bench: times the filter per workload and backend, prints a table and writes JSON.
+//
+// Each workload runs in its own child process so that its peak host memory (ru_maxrss) is its
+// own. Per workload and variant: one warm-up pass (program build and first-touch excluded), then
+// `--repeats` full runs; figures are medians with the min..max spread of the per-run medians.
+#include <CLI/CLI.hpp>
+#include <sys/resource.h>
+#include <sys/utsname.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "bench_workloads.hpp"
+#include "pnf/normal_filter.hpp"
+
+namespace {
+
+using namespace pnf;
+using namespace pnf::bench;
+
+struct Row {
+  std::string workload, source, variant, device;
+  std::size_t points = 0, neighbours_max = 0, pairs = 0, chunks = 0, passes = 0;
+  double sigma_f = 0, sigma_g = 0, neighbours_mean = 0;
+  double list_s = 0, upload_s = 0, pass_s = 0, pass_min_s = 0, pass_max_s = 0, kernel_s = 0;
+  double peak_host_mib = 0, device_mib = 0;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double peak_host_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+Row measure(const Workload& w, const std::string& variant, const FilterOptions& options, int passes, int repeats) {
+  NormalFilter filter(options);
+  FilterParams params = w.params;
+  params.iterations = 1;
+  filter.run(w.cloud, params);  // warm-up
+  params.iterations = passes;
+  Row row;
+  std::vector<double> lists, uploads, run_medians, all_passes, kernels;
+  FilterSummary s;
+  for (int r = 0; r < repeats; ++r) {
+    s = filter.run(w.cloud, params).summary;
+    lists.push_back(s.neighbour_seconds);
+    uploads.push_back(s.upload_seconds);
+    run_medians.push_back(median(s.pass_seconds));
+    all_passes.insert(all_passes.end(), s.pass_seconds.begin(), s.pass_seconds.end());
+    kernels.push_back(median(s.kernel_seconds));
+  }
+  row.workload = w.name;
+  row.source = w.source;
+  row.variant = variant;
+  row.device = s.device;
+  row.points = s.points;
+  row.sigma_f = s.sigma_f;
+  row.sigma_g = s.sigma_g;
+  row.neighbours_mean = s.neighbours_mean;
+  row.neighbours_max = s.neighbours_max;
+  row.pairs = s.neighbour_pairs;
+  row.chunks = s.chunks;
+  row.passes = std::size_t(passes);
+  row.list_s = median(lists);
+  row.upload_s = median(uploads);
+  row.pass_s = median(all_passes);
+  row.pass_min_s = *std::min_element(run_medians.begin(), run_medians.end());
+  row.pass_max_s = *std::max_element(run_medians.begin(), run_medians.end());
+  row.kernel_s = median(kernels);
+  row.device_mib = double(s.device_bytes) / (1024.0 * 1024.0);
+  row.peak_host_mib = peak_host_mib();
+  return row;
+}
+
+std::string json(const Row& r) {
+  std::ostringstream o;
+  const double mpairs = r.pass_s > 0 ? double(r.pairs) / r.pass_s / 1e6 : 0;
+  o << "{\"workload\":\"" << r.workload << "\",\"source\":\"" << r.source << "\",\"variant\":\"" << r.variant
+    << "\",\"device\":\"" << r.device << "\",\"points\":" << r.points << ",\"sigma_f\":" << r.sigma_f
+    << ",\"sigma_g\":" << r.sigma_g << ",\"neighbours_mean\":" << r.neighbours_mean
+    << ",\"neighbours_max\":" << r.neighbours_max << ",\"pairs_per_pass\":" << r.pairs << ",\"chunks\":" << r.chunks
+    << ",\"passes\":" << r.passes << ",\"list_build_s\":" << r.list_s << ",\"upload_s\":" << r.upload_s
+    << ",\"pass_s\":" << r.pass_s << ",\"pass_s_min\":" << r.pass_min_s << ",\"pass_s_max\":" << r.pass_max_s
+    << ",\"kernel_s\":" << r.kernel_s << ",\"mpairs_per_s\":" << mpairs
+    << ",\"gflops\":" << mpairs * kFlopsPerPair / 1000 << ",\"peak_host_mib\":" << r.peak_host_mib
+    << ",\"device_mib\":" << r.device_mib << "}";
+  return o.str();
+}
+
+// Runs `body` in a child process and returns the lines it wrote to the pipe.
+std::vector<std::string> in_child(const std::function<std::vector<std::string>()>& body) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  std::fflush(stdout);
+  std::fflush(stderr);
+  pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    int code = 0;
+    std::string out;
+    try {
+      for (const std::string& line : body()) out += line + "\n";
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "pnf_bench: %s\n", e.what());
+      code = 1;
+    }
+    ssize_t written = write(fds[1], out.data(), out.size());
+    (void)written;
+    close(fds[1]);
+    _exit(code);
+  }
+  close(fds[1]);
+  std::string text;
+  char buf[4096];
+  ssize_t n;
+  while ((n = read(fds[0], buf, sizeof buf)) > 0) text.append(buf, std::size_t(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+std::string field(const std::string& json, const std::string& key) {
+  auto at = json.find("\"" + key + "\":");
+  if (at == std::string::npos) return "";
+  at += key.size() + 3;
+  if (json[at] == '"') return json.substr(at + 1, json.find('"', at + 1) - at - 1);
+  return json.substr(at, json.find_first_of(",}", at) - at);
+}
+
+double num(const std::string& json, const std::string& key) {
+  std::string v = field(json, key);
+  return v.empty() ? 0 : std::stod(v);
+}
+
+std::string command_output(const char* cmd) {
+  std::string out;
+  if (FILE* p = popen(cmd, "r")) {
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    pclose(p);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"pnf_bench: time the normal filter per workload and backend; prints a table, writes JSON"};
+  std::vector<std::string> workloads = {"face", "dog", "bunny"};
+  std::vector<std::size_t> sweep;
+  std::string json_path = "pnf_bench.json", device, data_dir = PNF_SHARED_DATA_DIR;
+  int repeats = 3, passes = 4;
+  bool reference = false;
+  app.add_option("--workloads", workloads, "face, dog, bunny (default all three)")->delimiter(',');
+  app.add_option("--sweep", sweep, "also run the synthetic house at these sizes, e.g. 10000,100000,1000000")
+      ->delimiter(',');
+  app.add_option("--repeats", repeats, "timed runs per workload (default 3)")->check(CLI::PositiveNumber);
+  app.add_option("--passes", passes, "passes per run (default 4)")->check(CLI::PositiveNumber);
+  app.add_flag("--reference", reference, "also time the CPU reference on 1 thread and on all threads (slow)");
+  app.add_option("--device", device, "OpenCL device selector (default $PNF_DEVICE)");
+  app.add_option("--json", json_path, "where to write the results (default pnf_bench.json)");
+  app.add_option("--data", data_dir, "the team's shared data folder (for bunny)");
+  CLI11_PARSE(app, argc, argv);
+  for (std::size_t n : sweep) workloads.push_back("sweep-" + std::to_string(n));
+
+  std::vector<std::string> rows;
+  for (const std::string& name : workloads) {
+    std::vector<std::string> lines = in_child([&] {
+      std::vector<std::string> out;
+      Workload w = make_workload(name, data_dir);
+      if (w.name.empty()) {
+        std::fprintf(stderr, "pnf_bench: skipping %s (no data at %s)\n", name.c_str(), data_dir.c_str());
+        return out;
+      }
+      std::fprintf(stderr, "pnf_bench: %s (%zu points)...\n", name.c_str(), w.cloud.size());
+      FilterOptions opencl;
+      opencl.device = device;
+      out.push_back(json(measure(w, "opencl", opencl, passes, repeats)));
+      if (reference) {
+        FilterOptions one;
+        one.backend = Backend::reference;
+        one.threads = 1;
+        out.push_back(json(measure(w, "reference-1t", one, 1, 1)));
+        FilterOptions all = one;
+        all.threads = 0;
+        out.push_back(json(measure(w, "reference-all", all, 1, 1)));
+      }
+      return out;
+    });
+    rows.insert(rows.end(), lines.begin(), lines.end());
+  }
+
+  std::printf("%-12s %-13s %8s %9s %7s %5s %8s %8s %9s %15s %8s %7s %9s %9s\n", "workload", "variant", "points",
+              "sigma_f", "nbr", "max", "lists_s", "upload_s", "pass_s", "spread", "Mpair/s", "GFLOP/s", "host_MiB",
+              "dev_MiB");
+  std::map<std::string, double> opencl_pass;
+  for (const std::string& r : rows) {
+    if (field(r, "variant") == "opencl") opencl_pass[field(r, "workload")] = num(r, "pass_s");
+    std::printf("%-12s %-13s %8.0f %9.4g %7.1f %5.0f %8.3f %8.3f %9.4f %7.4f..%-7.4f %8.1f %7.2f %9.0f %9.1f\n",
+                field(r, "workload").c_str(), field(r, "variant").c_str(), num(r, "points"), num(r, "sigma_f"),
+                num(r, "neighbours_mean"), num(r, "neighbours_max"), num(r, "list_build_s"), num(r, "upload_s"),
+                num(r, "pass_s"), num(r, "pass_s_min"), num(r, "pass_s_max"), num(r, "mpairs_per_s"), num(r, "gflops"),
+                num(r, "peak_host_mib"), num(r, "device_mib"));
+  }
+  std::printf("\nratios (same run): neighbour lists / one OpenCL pass; reference pass / OpenCL pass\n");
+  for (const std::string& r : rows) {
+    const std::string w = field(r, "workload"), v = field(r, "variant");
+    if (v == "opencl") std::printf("  %-12s lists/pass %.2f\n", w.c_str(), num(r, "list_build_s") / num(r, "pass_s"));
+    else if (opencl_pass[w] > 0) std::printf("  %-12s %s / opencl %.2f\n", w.c_str(), v.c_str(), num(r, "pass_s") / opencl_pass[w]);
+  }
+  if (!rows.empty()) std::printf("device: %s\n", field(rows[0], "device").c_str());
+
+  utsname host{};
+  uname(&host);
+  char date[32];
+  std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  std::ofstream out(json_path);
+  out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine << "\",\"cpus\":"
+      << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\"" << command_output("git rev-parse --short HEAD 2>/dev/null")
+      << "\",\"flops_per_pair\":" << kFlopsPerPair << ",\"repeats\":" << repeats << ",\"results\":[\n";
+  for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i] << (i + 1 < rows.size() ? ",\n" : "\n");
+  out << "]}\n";
+  std::printf("wrote %s\n", json_path.c_str());
+  return rows.empty() ? 1 : 0;
+}

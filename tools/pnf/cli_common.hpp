@@ -1,0 +1,47 @@
+// What every pnf subcommand shares: exit codes, error reporting, the progress display.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+#include "pnf/error.hpp"
+#include "pnf/normal_filter.hpp"
+
+namespace pnf::cli {
+
+// Exit codes, documented in the README and in `pnf --help`.
+enum ExitCode {
+  kOk = 0,
+  kInternal = 1,  // a bug: an unexpected exception
+  kUsage = 2,     // bad command line or parameter value
+  kInput = 3,     // the input file is missing, unreadable or malformed, or its data is unusable
+  kDevice = 4,    // no OpenCL platform or device, kernel build or run failure
+  kOutput = 5,    // the output could not be written (nothing is left behind)
+  kCancelled = 6, // interrupted
+};
+
+// Where a pnf::Error happened, for the exit code of io errors (reading vs writing).
+enum class Stage { reading, running, writing };
+
+// Prints "pnf: error: <message>" to stderr and returns the exit code for `e` at `stage`.
+int report(const Error& e, Stage stage);
+
+// A progress callback that draws a one-line bar on stderr when stderr is a terminal and `quiet`
+// is false; otherwise it draws nothing. Always returns true (never cancels).
+ProgressCallback progress_bar(bool quiet);
+
+// Runs `body`, turning pnf::Error into a message and exit code (stage from `stage`, which body
+// updates as it goes) and anything else into kInternal.
+int guarded(Stage& stage, const std::function<int()>& body);
+
+// The device / backend flags shared by filter, devices and demo.
+struct DeviceFlags {
+  std::string device;
+  std::string backend = "opencl";
+  void add_to(CLI::App& app, bool with_backend = true);
+  FilterOptions options() const;
+};
+
+}  // namespace pnf::cli

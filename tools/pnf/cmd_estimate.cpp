@@ -1,0 +1,69 @@
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "pnf/estimate_normals.hpp"
+#include "pnf/point_file.hpp"
+
+namespace pnf::cli {
+namespace {
+
+struct EstimateFlags {
+  std::string in, out;
+  EstimateParams params;
+  std::string orient = "mst";
+  std::vector<double> viewpoint;
+  bool ascii = false, quiet = false, in_place = false;
+};
+
+int run_estimate(const EstimateFlags& flags) {
+  Stage stage = Stage::reading;
+  return guarded(stage, [&] {
+    EstimateParams params = flags.params;
+    params.orientation = parse_orientation(flags.orient);
+    if (!flags.viewpoint.empty()) params.viewpoint = {flags.viewpoint[0], flags.viewpoint[1], flags.viewpoint[2]};
+    params.validate();
+    check_output_extension(flags.out);
+    check_not_overwriting_input(flags.in, flags.out, flags.in_place);
+    PointFile file = read_point_file(flags.in);
+    stage = Stage::running;
+    auto start = std::chrono::steady_clock::now();
+    std::vector<Vec3> normals = estimate_normals(file.cloud().positions, params);
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stage = Stage::writing;
+    bool replaced = file.has_normals();
+    file.set_normals(normals);
+    write_point_file(flags.out, file, WriteOptions{flags.ascii});
+    if (!flags.quiet) {
+      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %d neighbours, oriented by %s, %.2f s%s\n  wrote %s\n",
+                   normals.size(), params.k, to_string(params.orientation), seconds,
+                   replaced ? " (replaced the file's normals)" : "", flags.out.c_str());
+    }
+    return int(kOk);
+  });
+}
+
+}  // namespace
+
+Command add_estimate_command(CLI::App& parent) {
+  auto flags = std::make_shared<EstimateFlags>();
+  CLI::App* app = parent.add_subcommand("estimate", "Estimate oriented normals (PCA on k nearest neighbours)");
+  app->add_option("IN", flags->in, "input point file (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
+  app->add_option("--k", flags->params.k, "neighbours in each fit (default 16, at least 3)");
+  app->add_option("--orient", flags->orient,
+                  "mst: propagate over a minimum spanning tree (default); outward: away from the centroid; "
+                  "viewpoint: toward --viewpoint")
+      ->check(CLI::IsMember({"mst", "outward", "viewpoint"}));
+  app->add_option("--viewpoint", flags->viewpoint, "sensor position X Y Z for --orient viewpoint (default 0 0 0)")
+      ->expected(3)
+      ->delimiter(',');
+  app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
+  app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");
+  app->add_flag("-q,--quiet", flags->quiet, "print nothing but errors");
+  return {app, [flags] { return run_estimate(*flags); }};
+}
+
+}  // namespace pnf::cli

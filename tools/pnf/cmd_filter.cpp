@@ -1,0 +1,95 @@
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "pnf/point_file.hpp"
+
+namespace pnf::cli {
+namespace {
+
+struct FilterFlags {
+  std::string in, out;
+  FilterParams params;
+  std::string units = "radius";
+  double radius = 0;
+  double memory_mib = 0;
+  DeviceFlags device;
+  bool ascii = false, quiet = false, in_place = false;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void print_summary(const FilterFlags& f, const FilterSummary& s, double read_s, double write_s) {
+  std::fprintf(stderr, "pnf filter: %zu points from %s (read in %.2f s)\n", s.points, f.in.c_str(), read_s);
+  if (f.params.units == Units::radius) {
+    std::fprintf(stderr, "  mean radius  %.6g (%s)\n", s.mean_radius, to_string(s.radius_source));
+  }
+  std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (%s units: %g, %g)\n", s.sigma_f, s.sigma_g,
+               to_string(f.params.units), f.params.sigma_f, f.params.sigma_g);
+  std::fprintf(stderr, "  neighbours   mean %.1f, max %zu per point; %zu pairs per pass in %zu chunk%s\n",
+               s.neighbours_mean, s.neighbours_max, s.neighbour_pairs, s.chunks, s.chunks == 1 ? "" : "s");
+  std::fprintf(stderr, "  device       %s [%s]\n", s.device.c_str(), s.backend.c_str());
+  std::fprintf(stderr, "  lists        %.3f s, upload %.3f s\n", s.neighbour_seconds, s.upload_seconds);
+  std::fprintf(stderr, "  passes       %zu:", s.pass_seconds.size());
+  for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
+  std::fprintf(stderr, " s\n  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
+}
+
+int run_filter(const FilterFlags& flags) {
+  FilterParams params = flags.params;
+  params.units = flags.units == "absolute" ? Units::absolute : Units::radius;
+  params.mean_radius = flags.radius;
+  Stage stage = Stage::reading;
+  return guarded(stage, [&] {
+    params.validate();
+    check_output_extension(flags.out);
+    check_not_overwriting_input(flags.in, flags.out, flags.in_place);
+    auto t = std::chrono::steady_clock::now();
+    PointFile file = read_point_file(flags.in);
+    const double read_s = seconds_since(t);
+    if (!file.has_normals()) {
+      throw Error(ErrorCode::invalid_input, flags.in + ": the vertices have no normals (nx ny nz); run `pnf estimate " +
+                                                flags.in + " OUT` first");
+    }
+    stage = Stage::running;
+    FilterOptions options = flags.device.options();
+    if (flags.memory_mib > 0) options.memory_budget_bytes = static_cast<std::size_t>(flags.memory_mib * 1024 * 1024);
+    NormalFilter filter(options);
+    FilterResult result = filter.run(file.cloud(), params, progress_bar(flags.quiet));
+    stage = Stage::writing;
+    t = std::chrono::steady_clock::now();
+    file.set_normals(result.normals);
+    write_point_file(flags.out, file, WriteOptions{flags.ascii});
+    if (!flags.quiet) print_summary(flags, result.summary, read_s, seconds_since(t));
+    return int(kOk);
+  });
+}
+
+}  // namespace
+
+Command add_filter_command(CLI::App& parent) {
+  auto flags = std::make_shared<FilterFlags>();
+  CLI::App* app = parent.add_subcommand("filter", "Improve the normals of a point file (Jones, Durand, Zwicker 2004)");
+  app->add_option("IN", flags->in, "input point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
+  app->add_option("--sigma-f", flags->params.sigma_f, "spatial width; neighbours reach 2 sigma_f (default 4)");
+  app->add_option("--sigma-g", flags->params.sigma_g, "feature width: distance to a neighbour's plane (default 0.5)");
+  app->add_option("--iterations", flags->params.iterations, "number of passes (default 4)");
+  app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii (default); absolute: model units")
+      ->check(CLI::IsMember({"radius", "absolute"}));
+  app->add_option("--radius", flags->radius,
+                  "mean surfel radius in model units (default: mean of the radius property, else estimated)");
+  app->add_option("--memory-budget", flags->memory_mib,
+                  "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)");
+  flags->device.add_to(*app);
+  app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
+  app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");
+  app->add_flag("-q,--quiet", flags->quiet, "print nothing but errors");
+  return {app, [flags] { return run_filter(*flags); }};
+}
+
+}  // namespace pnf::cli

@@ -1,0 +1,82 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+#include "pnf/mean_radius.hpp"
+#include "pnf/point_file.hpp"
+
+namespace pnf::cli {
+namespace {
+
+// Normals within this of length 1 count as unit: float32 storage rounds at about 1e-7.
+constexpr double kUnitTolerance = 1e-5;
+
+const char* encoding_name(PlyEncoding e) {
+  switch (e) {
+    case PlyEncoding::ascii: return "ascii";
+    case PlyEncoding::binary_little_endian: return "binary_little_endian";
+    case PlyEncoding::binary_big_endian: return "binary_big_endian";
+  }
+  return "?";
+}
+
+int run_info(const std::string& path) {
+  Stage stage = Stage::reading;
+  return guarded(stage, [&] {
+    PointFile file = read_point_file(path);
+    const PlyHeader& header = file.header();
+    std::printf("%s\n", path.c_str());
+    if (file.source_format() == PointFileFormat::ply) std::printf("  format       ply %s\n", encoding_name(header.encoding));
+    else std::printf("  format       text (x y z%s per line)\n", file.has_normals() ? " nx ny nz" : "");
+    for (const PlyComment& c : header.comments) std::printf("  %-12s %s\n", c.keyword.c_str(), c.text.c_str());
+    for (const PlyElement& e : header.elements) {
+      std::printf("  element      %s %zu:", e.name.c_str(), e.count);
+      for (const PlyProperty& p : e.properties) {
+        if (p.is_list) std::printf(" %s(list %s %s)", p.name.c_str(), p.count_type_name.c_str(), p.type_name.c_str());
+        else std::printf(" %s(%s)", p.name.c_str(), p.type_name.c_str());
+      }
+      std::printf("\n");
+    }
+    PointCloud cloud = file.cloud();
+    std::printf("  points       %zu\n", cloud.size());
+    if (cloud.size() == 0) return int(kOk);
+    Vec3 lo = cloud.positions[0], hi = cloud.positions[0];
+    for (const Vec3& p : cloud.positions)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    std::printf("  bounds       [%.6g %.6g %.6g] .. [%.6g %.6g %.6g]\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (cloud.has_radii()) {
+      double sum = 0;
+      for (double r : cloud.radii) sum += r;
+      std::printf("  mean radius  %.6g (radius property)\n", sum / double(cloud.size()));
+    } else {
+      std::printf("  mean radius  %.6g (estimated: median mean distance to the 4 nearest points)\n",
+                  estimate_mean_radius(cloud.positions));
+    }
+    if (!cloud.has_normals()) {
+      std::printf("  normals      none (run pnf estimate)\n");
+    } else {
+      std::size_t off = 0;
+      for (const Vec3& n : cloud.normals) off += std::fabs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) > kUnitTolerance;
+      if (off == 0) std::printf("  normals      yes, unit length\n");
+      else std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)\n", off);
+    }
+    return int(kOk);
+  });
+}
+
+}  // namespace
+
+Command add_info_command(CLI::App& parent) {
+  auto path = std::make_shared<std::string>();
+  CLI::App* app = parent.add_subcommand("info", "Describe a point file: elements, properties, bounds, spacing, normals");
+  app->add_option("IN", *path, "point file (.ply, .xyz, .xyzn, .pwn)")->required();
+  return {app, [path] { return run_info(*path); }};
+}
+
+}  // namespace pnf::cli

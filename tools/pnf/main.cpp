@@ -1,0 +1,54 @@
+// pnf: improve the normals of point models from the command line.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <vector>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+namespace pnf::cli {
+
+void check_output_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".ply" && ext != ".xyz" && ext != ".xyzn" && ext != ".pwn") {
+    throw Error(ErrorCode::invalid_argument,
+                path + ": unknown output format '" + ext + "'; use .ply, .xyz, .xyzn or .pwn");
+  }
+}
+
+void check_not_overwriting_input(const std::string& in, const std::string& out, bool in_place) {
+  std::error_code ec;
+  if (!in_place && std::filesystem::equivalent(in, out, ec)) {
+    throw Error(ErrorCode::invalid_argument, out + " is the input file; pass --in-place to overwrite it");
+  }
+}
+
+}  // namespace pnf::cli
+
+int main(int argc, char** argv) {
+  using namespace pnf::cli;
+  CLI::App app{"pnf: clean the normals of point models while keeping their sharp features.\n"};
+  app.footer(
+      "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input error, 4 device error, 5 output error, 6 cancelled.\n"
+      "Environment: PNF_DEVICE picks the OpenCL device (cpu, gpu, accelerator, P:D, or part of a name).");
+  app.require_subcommand(1);
+  std::vector<Command> commands = {add_filter_command(app), add_estimate_command(app), add_info_command(app),
+                                   add_devices_command(app), add_demo_command(app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and a hint to use --help
+    return kUsage;
+  }
+  for (const Command& c : commands) {
+    if (c.app->parsed()) return c.run();
+  }
+  return kUsage;
+}
