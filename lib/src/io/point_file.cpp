@@ -1,0 +1,319 @@
+#include "pnf/point_file.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+
+#include "atomic_file.hpp"
+#include "ply_reader.hpp"
+#include "ply_scalar.hpp"
+#include "ply_writer.hpp"
+#include "pnf/error.hpp"
+#include "point_file_impl.hpp"
+#include "row_layout.hpp"
+#include "text_points.hpp"
+
+namespace pnf {
+namespace {
+
+PointFileFormat format_from_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".ply") return PointFileFormat::ply;
+  if (extension == ".xyz") return PointFileFormat::xyz;
+  if (extension == ".xyzn") return PointFileFormat::xyzn;
+  if (extension == ".pwn") return PointFileFormat::pwn;
+  throw Error(ErrorCode::invalid_argument, path + ": unknown point file extension '" + extension +
+                                               "' (expected .ply, .xyz, .xyzn or .pwn)");
+}
+
+PlyProperty real_property(const char* name, PlyScalar type) {
+  PlyProperty property;
+  property.name = name;
+  property.type = type;
+  property.type_name = scalar_name(type);
+  return property;
+}
+
+// Appends nx ny nz of impl.added_normal_type to the vertex element, with zero values.
+void add_normal_properties(PointFile::Impl& impl) {
+  PlyHeader& header = impl.header;
+  PlyElement& vertex = header.elements[impl.vertex_element];
+  const std::size_t old_properties = vertex.properties.size();
+  // Header lines before the new properties: format, then each element line and its properties
+  // up to the vertex element. Comments after that point move down with the lines below them.
+  std::size_t insert_at = 1;
+  for (std::size_t e = 0; e <= impl.vertex_element; ++e) {
+    insert_at += 1 + header.elements[e].properties.size();
+  }
+  for (PlyComment& comment : header.comments) {
+    if (comment.position > insert_at) comment.position += 3;
+  }
+  const PlyScalar type = impl.added_normal_type;
+  vertex.properties.push_back(real_property("nx", type));
+  vertex.properties.push_back(real_property("ny", type));
+  vertex.properties.push_back(real_property("nz", type));
+  impl.fields.nx = old_properties;
+  impl.fields.ny = old_properties + 1;
+  impl.fields.nz = old_properties + 2;
+
+  const std::size_t added = 3 * scalar_size(type);
+  std::vector<unsigned char>& old_values = impl.values[impl.vertex_element];
+  std::vector<unsigned char> values;
+  values.reserve(old_values.size() + vertex.count * added);
+  // Lay out rows with the old property list: the new properties are not in them yet.
+  const std::vector<PlyProperty> old_list(vertex.properties.begin(),
+                                          vertex.properties.begin() + old_properties);
+  RowLayout layout(old_list);
+  const unsigned char* row = old_values.data();
+  for (std::size_t r = 0; r < vertex.count; ++r) {
+    const std::size_t row_size = layout.measure(row);
+    values.insert(values.end(), row, row + row_size);
+    values.insert(values.end(), added, 0);
+    row += row_size;
+  }
+  old_values.swap(values);
+
+  if (!impl.ascii_rows.empty()) {
+    // Placeholders, replaced by rewrite_vertex_tokens.
+    std::string& text = impl.ascii_rows[impl.vertex_element];
+    std::string with_normals;
+    with_normals.reserve(text.size() + vertex.count * 6);
+    for (const char c : text) {
+      if (c == '\n') with_normals += " 0 0 0";
+      with_normals += c;
+    }
+    text.swap(with_normals);
+  }
+}
+
+// Replaces the normal tokens of the stored ascii vertex rows with the stored normal values;
+// every other token stays as read.
+void rewrite_vertex_tokens(PointFile::Impl& impl) {
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  const std::vector<PlyProperty>& properties = vertex.properties;
+  const std::string& text = impl.ascii_rows[impl.vertex_element];
+  const VertexFields& fields = impl.fields;
+  std::string rewritten;
+  rewritten.reserve(text.size());
+  RowLayout layout(properties);
+  const unsigned char* row = impl.values[impl.vertex_element].data();
+  std::size_t at = 0;  // start of the current token in `text`
+  const auto next_token = [&]() {
+    const std::size_t end = text.find_first_of(" \n", at);
+    const std::string_view token(text.data() + at, end - at);
+    at = end + 1;
+    return token;
+  };
+  for (std::size_t r = 0; r < vertex.count; ++r) {
+    const std::size_t row_size = layout.measure(row);
+    for (std::size_t p = 0; p < properties.size(); ++p) {
+      if (p > 0) rewritten += ' ';
+      const std::string_view token = next_token();
+      if (p == fields.nx || p == fields.ny || p == fields.nz) {
+        append_token(properties[p].type, row + layout.offset(p), rewritten);
+        continue;
+      }
+      rewritten += token;
+      if (!properties[p].is_list) continue;
+      std::uint64_t count = 0;
+      load_count(properties[p].count_type, row + layout.offset(p), count);
+      for (std::uint64_t i = 0; i < count; ++i) {
+        rewritten += ' ';
+        rewritten += next_token();
+      }
+    }
+    rewritten += '\n';
+    row += row_size;
+  }
+  impl.ascii_rows[impl.vertex_element].swap(rewritten);
+}
+
+void check_normal(const Vec3& normal, std::size_t index, const char* where) {
+  const bool finite =
+      std::isfinite(normal[0]) && std::isfinite(normal[1]) && std::isfinite(normal[2]);
+  if (!finite || (normal[0] == 0 && normal[1] == 0 && normal[2] == 0)) {
+    throw Error(ErrorCode::invalid_argument, std::string(where) + ": normal " +
+                                                 std::to_string(index) +
+                                                 (finite ? " is zero-length" : " is not finite"));
+  }
+}
+
+}  // namespace
+
+PointFile::PointFile() : PointFile(PointCloud{}) {}
+
+PointFile::PointFile(const PointCloud& cloud) : impl_(std::make_unique<Impl>()) {
+  constexpr const char* kWhere = "PointFile(PointCloud)";
+  const std::size_t n = cloud.size();
+  if (cloud.has_normals() && cloud.normals.size() != n) {
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
+                                                 std::to_string(cloud.normals.size()) +
+                                                 " normals for " + std::to_string(n) + " points");
+  }
+  if (cloud.has_radii() && cloud.radii.size() != n) {
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
+                                                 std::to_string(cloud.radii.size()) +
+                                                 " radii for " + std::to_string(n) + " points");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = cloud.positions[i];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      throw Error(ErrorCode::invalid_argument,
+                  std::string(kWhere) + ": position " + std::to_string(i) + " is not finite");
+    }
+    if (cloud.has_normals()) check_normal(cloud.normals[i], i, kWhere);
+    if (cloud.has_radii() && !std::isfinite(cloud.radii[i])) {
+      throw Error(ErrorCode::invalid_argument,
+                  std::string(kWhere) + ": radius " + std::to_string(i) + " is not finite");
+    }
+  }
+  Impl& impl = *impl_;
+  impl.added_normal_type = PlyScalar::float64;
+  PlyElement vertex;
+  vertex.name = "vertex";
+  vertex.count = n;
+  for (const char* name : {"x", "y", "z"}) {
+    vertex.properties.push_back(real_property(name, PlyScalar::float64));
+  }
+  if (cloud.has_normals()) {
+    for (const char* name : {"nx", "ny", "nz"}) {
+      vertex.properties.push_back(real_property(name, PlyScalar::float64));
+    }
+  }
+  if (cloud.has_radii()) vertex.properties.push_back(real_property("radius", PlyScalar::float64));
+  const std::size_t row_size = vertex.properties.size() * sizeof(double);
+  impl.header.elements.push_back(std::move(vertex));
+  std::vector<unsigned char>& values = impl.values.emplace_back(n * row_size);
+  unsigned char* at = values.data();
+  const auto put = [&at](double value) {
+    store_real(PlyScalar::float64, value, at);
+    at += sizeof(double);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const double value : cloud.positions[i]) put(value);
+    if (cloud.has_normals()) {
+      for (const double value : cloud.normals[i]) put(value);
+    }
+    if (cloud.has_radii()) put(cloud.radii[i]);
+  }
+  locate_vertex_fields(impl, kWhere);
+}
+
+PointFile::PointFile(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+PointFile::PointFile(const PointFile& other) : impl_(std::make_unique<Impl>(*other.impl_)) {}
+PointFile::PointFile(PointFile&& other) noexcept = default;
+PointFile& PointFile::operator=(const PointFile& other) {
+  if (this != &other) impl_ = std::make_unique<Impl>(*other.impl_);
+  return *this;
+}
+PointFile& PointFile::operator=(PointFile&& other) noexcept = default;
+PointFile::~PointFile() = default;
+
+PointFileFormat PointFile::source_format() const { return impl_->source_format; }
+
+const PlyHeader& PointFile::header() const { return impl_->header; }
+
+std::size_t PointFile::size() const { return impl_->header.elements[impl_->vertex_element].count; }
+
+bool PointFile::has_normals() const { return impl_->fields.has_normals(); }
+
+PointCloud PointFile::cloud() const {
+  const Impl& impl = *impl_;
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  const std::vector<PlyProperty>& properties = vertex.properties;
+  const VertexFields& fields = impl.fields;
+  PointCloud cloud;
+  cloud.positions.resize(vertex.count);
+  if (fields.has_normals()) cloud.normals.resize(vertex.count);
+  if (fields.radius != VertexFields::kNone) cloud.radii.resize(vertex.count);
+  RowLayout layout(properties);
+  const unsigned char* row = impl.values[impl.vertex_element].data();
+  const auto load = [&](std::size_t property) {
+    return load_as_double(properties[property].type, row + layout.offset(property));
+  };
+  for (std::size_t i = 0; i < vertex.count; ++i) {
+    const std::size_t row_size = layout.measure(row);
+    cloud.positions[i] = {load(fields.x), load(fields.y), load(fields.z)};
+    if (fields.has_normals())
+      cloud.normals[i] = {load(fields.nx), load(fields.ny), load(fields.nz)};
+    if (fields.radius != VertexFields::kNone) cloud.radii[i] = load(fields.radius);
+    row += row_size;
+  }
+  return cloud;
+}
+
+void PointFile::set_normals(const std::vector<Vec3>& normals) {
+  constexpr const char* kWhere = "set_normals";
+  Impl& impl = *impl_;
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  if (normals.size() != vertex.count) {
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
+                                                 std::to_string(normals.size()) + " normals for " +
+                                                 std::to_string(vertex.count) + " vertices");
+  }
+  for (std::size_t i = 0; i < normals.size(); ++i) check_normal(normals[i], i, kWhere);
+  if (impl.fields.has_normals()) {
+    for (const std::size_t field : {impl.fields.nx, impl.fields.ny, impl.fields.nz}) {
+      const PlyProperty& property = vertex.properties[field];
+      if (is_integer(property.type)) {
+        throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" +
+                                                  property.name + "' is declared '" +
+                                                  property.type_name +
+                                                  "', an integer type that cannot hold normals");
+      }
+    }
+  } else {
+    add_normal_properties(impl);
+  }
+  const std::vector<PlyProperty>& properties = vertex.properties;
+  const std::size_t fields[3] = {impl.fields.nx, impl.fields.ny, impl.fields.nz};
+  RowLayout layout(properties);
+  unsigned char* row = impl.values[impl.vertex_element].data();
+  for (std::size_t i = 0; i < vertex.count; ++i) {
+    const std::size_t row_size = layout.measure(row);
+    for (int axis = 0; axis < 3; ++axis) {
+      store_real(properties[fields[axis]].type, normals[i][axis],
+                 row + layout.offset(fields[axis]));
+    }
+    row += row_size;
+  }
+  if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl);
+}
+
+const std::vector<unsigned char>& PointFile::element_values(std::size_t element) const {
+  if (element >= impl_->values.size()) {
+    throw Error(ErrorCode::invalid_argument, "element_values: element " + std::to_string(element) +
+                                                 " of " + std::to_string(impl_->values.size()));
+  }
+  return impl_->values[element];
+}
+
+PointFile read_point_file(const std::string& path) {
+  const PointFileFormat format = format_from_extension(path);
+  if (format == PointFileFormat::ply) return PointFile(read_ply(path));
+  return PointFile(read_text_points(path, format));
+}
+
+void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options) {
+  const PointFileFormat format = format_from_extension(path);
+  const bool needs_normals = format == PointFileFormat::xyzn || format == PointFileFormat::pwn;
+  if (needs_normals && !file.has_normals()) {
+    throw Error(ErrorCode::invalid_argument,
+                path + ": this format stores x y z nx ny nz, and the points have no normals");
+  }
+  AtomicFile out(path);
+  if (format == PointFileFormat::ply) {
+    write_ply(*file.impl_, options.ascii, out);
+  } else {
+    write_text_points(file.cloud(), out);
+  }
+  out.commit();
+}
+
+}  // namespace pnf

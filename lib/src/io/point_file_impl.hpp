@@ -1,0 +1,49 @@
+// PointFile::Impl — what a PointFile stores, shared by the readers, the writers and PointFile.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "pnf/point_file.hpp"
+
+namespace pnf {
+
+// Indices of the vertex properties pnf uses, kNone where absent.
+struct VertexFields {
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::size_t x = kNone, y = kNone, z = kNone;
+  std::size_t nx = kNone, ny = kNone, nz = kNone;
+  std::size_t radius = kNone;
+  bool has_normals() const { return nx != kNone; }
+};
+
+struct PointFile::Impl {
+  PointFileFormat source_format = PointFileFormat::ply;
+  PlyHeader header;
+  // Parallel to header.elements: each element's values in the binary_little_endian layout
+  // (see PointFile::element_values).
+  std::vector<std::vector<unsigned char>> values;
+  // For a file read from ascii PLY: parallel to header.elements, each element's original
+  // tokens, one line per row, tokens separated by one space, every line ending in '\n'. Kept so
+  // that ascii output repeats every unchanged value's text exactly; empty for other sources.
+  std::vector<std::string> ascii_rows;
+  std::size_t vertex_element = 0;  // index of "vertex" in header.elements
+  VertexFields fields;             // found in header.elements[vertex_element]
+  // The type set_normals gives normals it adds: float for PLY files, as is usual there; double
+  // where every other value is double (text files, files built from a PointCloud).
+  PlyScalar added_normal_type = PlyScalar::float32;
+};
+
+// Finds the "vertex" element and the properties pnf uses, and stores them in `impl`. Throws
+// invalid_input (message prefixed with `path`) when the element or x/y/z is missing, when only
+// some normal components are present, or when a used property is a list.
+void locate_vertex_fields(PointFile::Impl& impl, const std::string& path);
+
+// Checks that every position and normal is finite and every normal non-zero. `row_lines`
+// gives, for an ascii source, the file line of each vertex row (empty otherwise) so that the
+// message can name it. Throws invalid_input naming `path`, the vertex index and the line.
+void check_vertices(const PointFile::Impl& impl, const std::string& path,
+                    const std::vector<std::size_t>& row_lines);
+
+}  // namespace pnf
