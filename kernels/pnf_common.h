@@ -6,10 +6,28 @@
 #ifndef PNF_COMMON_H
 #define PNF_COMMON_H
 
+/* PNF_LANES: how many neighbours the kernel takes per step, as one OpenCL vector (a build
+ * option, chosen per device type: wide on CPUs, where PoCL does not vectorise across
+ * work-items, 1 on GPUs, whose threads are the vector lanes). The reference uses 1. */
+#ifndef PNF_LANES
+#define PNF_LANES 1
+#endif
+
 #ifdef __OPENCL_VERSION__
 #define PNF_FN static inline
 #define PNF_GLOBAL __global
 typedef float pnf_real;
+#if PNF_LANES == 1
+typedef float pnf_lane;
+#elif PNF_LANES == 4
+typedef float4 pnf_lane;
+#elif PNF_LANES == 8
+typedef float8 pnf_lane;
+#elif PNF_LANES == 16
+typedef float16 pnf_lane;
+#else
+#error "PNF_LANES must be 1, 4, 8 or 16"
+#endif
 typedef uint pnf_index;   /* a point id: 32 bits, clouds are limited to 2^32 - 1 points */
 typedef ulong pnf_offset; /* a CSR offset: 64 bits, the pair count can pass 2^32 */
 #define pnf_exp exp
@@ -20,6 +38,10 @@ typedef ulong pnf_offset; /* a CSR offset: 64 bits, the pair count can pass 2^32
 #define PNF_FN static inline
 #define PNF_GLOBAL
 typedef double pnf_real;
+#if PNF_LANES != 1
+#error "the C++ reference runs one lane"
+#endif
+typedef double pnf_lane;
 typedef std::uint32_t pnf_index;
 typedef std::uint64_t pnf_offset;
 #define pnf_exp std::exp
@@ -143,6 +165,103 @@ PNF_FN pnf_dvec3 pnf_dvec3_seed(pnf_vec3 p) {
   r.x = pnf_dual_var(p.x, 0);
   r.y = pnf_dual_var(p.y, 1);
   r.z = pnf_dual_var(p.z, 2);
+  return r;
+}
+
+/* A dual number per lane: PNF_LANES neighbours' values and partials side by side. */
+typedef struct {
+  pnf_lane v, d0, d1, d2;
+} pnf_ldual;
+
+/* c - x for lanes c and a scalar dual x (broadcast). */
+PNF_FN pnf_ldual pnf_ldual_rsub(pnf_lane c, pnf_dual x) {
+  pnf_ldual r;
+  r.v = c - x.v;
+  r.d0 = -x.d[0];
+  r.d1 = -x.d[1];
+  r.d2 = -x.d[2];
+  return r;
+}
+
+/* x + a for a scalar dual x (broadcast) and lanes a. */
+PNF_FN pnf_ldual pnf_ldual_add_scalar(pnf_dual x, pnf_ldual a) {
+  pnf_ldual r;
+  r.v = x.v + a.v;
+  r.d0 = x.d[0] + a.d0;
+  r.d1 = x.d[1] + a.d1;
+  r.d2 = x.d[2] + a.d2;
+  return r;
+}
+
+PNF_FN pnf_ldual pnf_ldual_add(pnf_ldual a, pnf_ldual b) {
+  pnf_ldual r;
+  r.v = a.v + b.v;
+  r.d0 = a.d0 + b.d0;
+  r.d1 = a.d1 + b.d1;
+  r.d2 = a.d2 + b.d2;
+  return r;
+}
+
+PNF_FN pnf_ldual pnf_ldual_mul(pnf_ldual a, pnf_ldual b) {
+  pnf_ldual r;
+  r.v = a.v * b.v;
+  r.d0 = a.d0 * b.v + a.v * b.d0;
+  r.d1 = a.d1 * b.v + a.v * b.d1;
+  r.d2 = a.d2 * b.v + a.v * b.d2;
+  return r;
+}
+
+/* a * s for lanes s that carry no derivative (a neighbour's normal component, a constant). */
+PNF_FN pnf_ldual pnf_ldual_scale(pnf_ldual a, pnf_lane s) {
+  pnf_ldual r;
+  r.v = a.v * s;
+  r.d0 = a.d0 * s;
+  r.d1 = a.d1 * s;
+  r.d2 = a.d2 * s;
+  return r;
+}
+
+PNF_FN pnf_ldual pnf_ldual_exp(pnf_ldual a) {
+  pnf_ldual r;
+  r.v = pnf_exp(a.v);
+  r.d0 = r.v * a.d0;
+  r.d1 = r.v * a.d1;
+  r.d2 = r.v * a.d2;
+  return r;
+}
+
+PNF_FN pnf_ldual pnf_ldual_zero(void) {
+  pnf_ldual r;
+  r.v = 0;
+  r.d0 = 0;
+  r.d1 = 0;
+  r.d2 = 0;
+  return r;
+}
+
+/* The sum of the lanes of v. */
+PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
+#if PNF_LANES == 1
+  return v;
+#elif PNF_LANES == 4
+  return (v.x + v.y) + (v.z + v.w);
+#elif PNF_LANES == 8
+  float4 h = v.lo + v.hi;
+  return (h.x + h.y) + (h.z + h.w);
+#else
+  float8 q = v.lo + v.hi;
+  float4 h = q.lo + q.hi;
+  return (h.x + h.y) + (h.z + h.w);
+#endif
+}
+
+/* The scalar dual whose value and partials are the sums over the lanes of a. */
+PNF_FN pnf_dual pnf_ldual_sum(pnf_ldual a) {
+  pnf_dual r;
+  r.v = pnf_lane_sum(a.v);
+  r.d[0] = pnf_lane_sum(a.d0);
+  r.d[1] = pnf_lane_sum(a.d1);
+  r.d[2] = pnf_lane_sum(a.d2);
   return r;
 }
 

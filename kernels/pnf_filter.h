@@ -22,43 +22,51 @@ PNF_FN pnf_coeffs pnf_make_coeffs(pnf_real sigma_f, pnf_real sigma_g) {
   return c;
 }
 
-/* F(x) - o with its Jacobian in the partials, over neighbours indices[begin, end), for a query
- * x = o + x_local given relative to an origin o. Working relative to o (the point being filtered)
- * keeps float32 precise far from the cloud's centre: p - o is exact for nearby floats, and F - o
- * is of the size of the neighbourhood, not of the model. J does not depend on o. */
-PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const pnf_index* indices,
-                            pnf_offset begin, pnf_offset end, PNF_GLOBAL const pnf_real* positions,
-                            PNF_GLOBAL const pnf_real* normals, pnf_coeffs c) {
-  pnf_dual sum_w = pnf_dual_const(0);
-  pnf_dvec3 sum_wp;
-  sum_wp.x = pnf_dual_const(0);
-  sum_wp.y = pnf_dual_const(0);
-  sum_wp.z = pnf_dual_const(0);
-  for (pnf_offset e = begin; e < end; ++e) {
-    pnf_index j = indices[e];
-    pnf_vec3 p = pnf_load_vec3(positions, j);
-    pnf_vec3 n = pnf_load_vec3(normals, j);
-    pnf_dual dx = pnf_dual_rsub(p.x - origin.x, x_local.x); /* p - x */
-    pnf_dual dy = pnf_dual_rsub(p.y - origin.y, x_local.y);
-    pnf_dual dz = pnf_dual_rsub(p.z - origin.z, x_local.z);
-    pnf_dual dist2 = pnf_dual_add(pnf_dual_add(pnf_dual_mul(dx, dx), pnf_dual_mul(dy, dy)), pnf_dual_mul(dz, dz));
-    pnf_dual h = pnf_dual_add(pnf_dual_add(pnf_dual_scale(dx, n.x), pnf_dual_scale(dy, n.y)), pnf_dual_scale(dz, n.z));
-    pnf_dual exponent = pnf_dual_add(pnf_dual_scale(dist2, -c.inv_two_sigma_f2),
-                                     pnf_dual_scale(pnf_dual_mul(h, h), -c.inv_two_sigma_g2));
-    pnf_dual w = pnf_dual_exp(exponent);
-    /* Pi_p(x) - o = x_local + h n_p */
-    pnf_dual px = pnf_dual_add(x_local.x, pnf_dual_scale(h, n.x));
-    pnf_dual py = pnf_dual_add(x_local.y, pnf_dual_scale(h, n.y));
-    pnf_dual pz = pnf_dual_add(x_local.z, pnf_dual_scale(h, n.z));
-    sum_w = pnf_dual_add(sum_w, w);
-    sum_wp.x = pnf_dual_add(sum_wp.x, pnf_dual_mul(w, px));
-    sum_wp.y = pnf_dual_add(sum_wp.y, pnf_dual_mul(w, py));
-    sum_wp.z = pnf_dual_add(sum_wp.z, pnf_dual_mul(w, pz));
-  }
+/* The running sums of F's denominator (sum w) and numerator (sum w Pi), per lane, as duals. */
+typedef struct {
+  pnf_ldual w, wpx, wpy, wpz;
+} pnf_sums;
+
+PNF_FN pnf_sums pnf_sums_zero(void) {
+  pnf_sums acc;
+  acc.w = pnf_ldual_zero();
+  acc.wpx = pnf_ldual_zero();
+  acc.wpy = pnf_ldual_zero();
+  acc.wpz = pnf_ldual_zero();
+  return acc;
+}
+
+/* Adds PNF_LANES neighbours to the sums: their positions relative to the origin o (p - o), their
+ * normals, and `valid` (1 for a neighbour, 0 for a padding lane). The query is x = o + x_local.
+ * Working relative to o keeps float32 precise far from the cloud's centre: p - o is exact for
+ * nearby floats, and F - o is of the size of the neighbourhood, not of the model. */
+PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_dvec3 x_local, pnf_lane px, pnf_lane py, pnf_lane pz, pnf_lane nx,
+                           pnf_lane ny, pnf_lane nz, pnf_lane valid, pnf_coeffs c) {
+  pnf_ldual dx = pnf_ldual_rsub(px, x_local.x); /* p - x */
+  pnf_ldual dy = pnf_ldual_rsub(py, x_local.y);
+  pnf_ldual dz = pnf_ldual_rsub(pz, x_local.z);
+  pnf_ldual dist2 = pnf_ldual_add(pnf_ldual_add(pnf_ldual_mul(dx, dx), pnf_ldual_mul(dy, dy)), pnf_ldual_mul(dz, dz));
+  pnf_ldual h = pnf_ldual_add(pnf_ldual_add(pnf_ldual_scale(dx, nx), pnf_ldual_scale(dy, ny)), pnf_ldual_scale(dz, nz));
+  pnf_ldual exponent = pnf_ldual_add(pnf_ldual_scale(dist2, (pnf_lane)(-c.inv_two_sigma_f2)),
+                                     pnf_ldual_scale(pnf_ldual_mul(h, h), (pnf_lane)(-c.inv_two_sigma_g2)));
+  pnf_ldual w = pnf_ldual_scale(pnf_ldual_exp(exponent), valid);
+  /* Pi_p(x) - o = x_local + h n_p */
+  pnf_ldual pi_x = pnf_ldual_add_scalar(x_local.x, pnf_ldual_scale(h, nx));
+  pnf_ldual pi_y = pnf_ldual_add_scalar(x_local.y, pnf_ldual_scale(h, ny));
+  pnf_ldual pi_z = pnf_ldual_add_scalar(x_local.z, pnf_ldual_scale(h, nz));
+  acc->w = pnf_ldual_add(acc->w, w);
+  acc->wpx = pnf_ldual_add(acc->wpx, pnf_ldual_mul(w, pi_x));
+  acc->wpy = pnf_ldual_add(acc->wpy, pnf_ldual_mul(w, pi_y));
+  acc->wpz = pnf_ldual_add(acc->wpz, pnf_ldual_mul(w, pi_z));
+}
+
+/* F - o = sum w Pi / sum w, with its Jacobian in the partials. */
+PNF_FN pnf_dvec3 pnf_finish_F(pnf_sums acc) {
+  pnf_dual w = pnf_ldual_sum(acc.w);
   pnf_dvec3 f;
-  f.x = pnf_dual_div(sum_wp.x, sum_w);
-  f.y = pnf_dual_div(sum_wp.y, sum_w);
-  f.z = pnf_dual_div(sum_wp.z, sum_w);
+  f.x = pnf_dual_div(pnf_ldual_sum(acc.wpx), w);
+  f.y = pnf_dual_div(pnf_ldual_sum(acc.wpy), w);
+  f.z = pnf_dual_div(pnf_ldual_sum(acc.wpz), w);
   return f;
 }
 
@@ -83,6 +91,21 @@ PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
   return m;
 }
 
+#if PNF_LANES == 1
+/* F(o + x_local) - o with its Jacobian, one neighbour at a time over indices[begin, end). */
+PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const pnf_index* indices,
+                            pnf_offset begin, pnf_offset end, PNF_GLOBAL const pnf_real* positions,
+                            PNF_GLOBAL const pnf_real* normals, pnf_coeffs c) {
+  pnf_sums acc = pnf_sums_zero();
+  for (pnf_offset e = begin; e < end; ++e) {
+    pnf_index j = indices[e];
+    pnf_vec3 p = pnf_load_vec3(positions, j);
+    pnf_vec3 n = pnf_load_vec3(normals, j);
+    pnf_accumulate(&acc, x_local, p.x - origin.x, p.y - origin.y, p.z - origin.z, n.x, n.y, n.z, 1, c);
+  }
+  return pnf_finish_F(acc);
+}
+
 /* One pass for point s: its new normal from its neighbour list indices[begin, end). */
 PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
                                  pnf_offset end, PNF_GLOBAL const pnf_real* positions,
@@ -91,5 +114,6 @@ PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indice
   pnf_dvec3 f = pnf_eval_F(x_local, pnf_load_vec3(positions, s), indices, begin, end, positions, normals, c);
   return pnf_update_normal(f, pnf_load_vec3(normals, s));
 }
+#endif
 
 #endif /* PNF_FILTER_H */

@@ -107,8 +107,12 @@ NormalFilter::NormalFilter(const FilterOptions& options) : impl_(std::make_uniqu
     throw Error(ErrorCode::invalid_argument,
                 "invalid filter option threads = " + std::to_string(options.threads) + ": must be >= 0 (0: all cores)");
   }
+  if (options.lanes != 0 && options.lanes != 1 && options.lanes != 4 && options.lanes != 8 && options.lanes != 16) {
+    throw Error(ErrorCode::invalid_argument,
+                "invalid filter option lanes = " + std::to_string(options.lanes) + ": must be 0 (auto), 1, 4, 8 or 16");
+  }
   impl_->options = options;
-  impl_->backend = options.backend == Backend::opencl ? detail::make_opencl_backend(options.device)
+  impl_->backend = options.backend == Backend::opencl ? detail::make_opencl_backend(options.device, options.lanes)
                                                       : detail::make_reference_backend(options.threads);
 }
 

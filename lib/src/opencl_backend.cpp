@@ -9,16 +9,23 @@ namespace {
 
 // Kernels are plain OpenCL C 1.2; no fast-math, so float results stay close to the reference.
 constexpr const char* kBuildOptions = "-cl-std=CL1.2";
+// Measured in bench/ (see docs/performance.md): 16 lanes is fastest on PoCL's AVX-512 CPU device.
+constexpr int kCpuLanes = 16;
+constexpr int kGpuLanes = 1;
 
 std::vector<float> to_float(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
 
 class OpenClBackend : public FilterBackend {
  public:
-  explicit OpenClBackend(const std::string& selector) : runtime_(selector) {
-    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", kBuildOptions);
+  OpenClBackend(const std::string& selector, int lanes) : runtime_(selector) {
+    lanes_ = lanes > 0 ? lanes : runtime_.info().type == "gpu" ? kGpuLanes : kCpuLanes;
+    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass",
+                              std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_));
   }
 
-  std::string description() const override { return runtime_.description(); }
+  std::string description() const override {
+    return runtime_.description() + ", " + std::to_string(lanes_) + " lane" + (lanes_ == 1 ? "" : "s");
+  }
   std::size_t max_list_bytes() const override { return runtime_.max_alloc_bytes(); }
 
   void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) override {
@@ -113,6 +120,7 @@ class OpenClBackend : public FilterBackend {
   }
 
   ClRuntime runtime_;
+  int lanes_ = 1;
   cl::Kernel kernel_;
   std::size_t point_count_ = 0;
   cl::Buffer positions_, current_, next_, offsets_, indices_;
@@ -123,8 +131,8 @@ class OpenClBackend : public FilterBackend {
 
 }  // namespace
 
-std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector) {
-  return std::make_unique<OpenClBackend>(selector);
+std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes) {
+  return std::make_unique<OpenClBackend>(selector, lanes);
 }
 
 }  // namespace pnf::detail

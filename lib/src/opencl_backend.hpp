@@ -9,6 +9,7 @@
 namespace pnf::detail {
 
 // Picks the device (see ClRuntime) and builds the kernels once. Throws pnf::Error(device).
-std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector);
+// lanes: PNF_LANES for the kernel build, 0 for the device type's default.
+std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes);
 
 }  // namespace pnf::detail

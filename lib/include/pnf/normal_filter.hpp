@@ -33,6 +33,9 @@ struct FilterOptions {
   std::size_t memory_budget_bytes = std::size_t(1) << 30;
   // Threads for the reference backend; 0 (default) means all cores.
   int threads = 0;
+  // Neighbours the OpenCL kernel takes per vector step: 1, 4, 8 or 16; 0 (default) picks 16 on
+  // CPU devices (PoCL vectorises only explicit vectors) and 1 on GPUs (threads are the lanes).
+  int lanes = 0;
 };
 
 // Where the mean surfel radius came from.
