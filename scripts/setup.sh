@@ -8,7 +8,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libeigen3-dev libflann-dev liblz4-dev
   googletest libgtest-dev libbenchmark-dev
-  libcli11-dev
+  libcli11-dev libpng-dev
 )
 
 missing=()
