@@ -97,19 +97,27 @@ CsrLists NeighbourSearch::lists_within(double radius, std::size_t first, std::si
   CsrLists lists;
   lists.first_point = first;
   lists.point_count = count;
+  std::size_t pairs = 0;
+  for (std::size_t k = 0; k < count; ++k) pairs += counts[first + k];
   lists.offsets.resize(count + 1);
-  lists.offsets[0] = 0;
-  for (std::size_t k = 0; k < count; ++k) lists.offsets[k + 1] = lists.offsets[k] + counts[first + k];
-  lists.indices.resize(lists.offsets.back());
+  lists.indices.resize(pairs);
+  fill_lists(radius, first, count, counts, lists.offsets.data(), lists.indices.data());
+  return lists;
+}
 
+void NeighbourSearch::fill_lists(double radius, std::size_t first, std::size_t count,
+                                 const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
+                                 std::uint32_t* indices) const {
+  offsets[0] = 0;
+  for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double limit = inclusive_squared_limit(radius);
   const flann::SearchParams params = exact_search();
   std::atomic<bool> mismatch{false};
   const auto n = static_cast<std::int64_t>(count);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t k = 0; k < n; ++k) {
-    std::size_t capacity = lists.offsets[k + 1] - lists.offsets[k];
-    WritingResultSet result(limit, lists.indices.data() + lists.offsets[k], capacity);
+    std::size_t capacity = offsets[k + 1] - offsets[k];
+    WritingResultSet result(limit, indices + offsets[k], capacity);
     tree_->index.findNeighbors(result, &positions_[3 * (first + k)], params);
     if (result.written() != capacity) mismatch = true;
   }
@@ -117,7 +125,6 @@ CsrLists NeighbourSearch::lists_within(double radius, std::size_t first, std::si
     // The same exact search ran twice on the same tree; a different count is a bug, not bad data.
     throw Error(ErrorCode::invalid_input, "internal error: neighbour search gave different counts on two runs");
   }
-  return lists;
 }
 
 std::vector<double> NeighbourSearch::mean_knn_distance(int k, std::size_t max_samples) const {

@@ -39,6 +39,11 @@ class NeighbourSearch {
   // arrays before any search runs.
   CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts) const;
 
+  // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
+  // count + 1 entries and `indices` the sum of counts[first .. first + count).
+  void fill_lists(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts,
+                  std::uint64_t* offsets, std::uint32_t* indices) const;
+
   // For up to `max_samples` points spread evenly over the cloud: the mean distance to their k
   // nearest other points (duplicates count, at distance 0). Needs N >= k + 1.
   std::vector<double> mean_knn_distance(int k, std::size_t max_samples) const;

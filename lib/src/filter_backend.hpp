@@ -2,10 +2,10 @@
 // neighbour search and chunking; a backend holds the cloud and runs passes over CSR lists.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
-#include "neighbour_lists.hpp"
 
 namespace pnf::detail {
 
@@ -15,16 +15,25 @@ struct Coefficients {
   double inv_two_sigma_g2 = 0;
 };
 
+struct ListStorage {
+  std::uint64_t* offsets = nullptr;  // count + 1
+  std::uint32_t* indices = nullptr;  // pairs
+};
+
 class FilterBackend {
  public:
   virtual ~FilterBackend() = default;
   virtual std::string description() const = 0;
-  // Largest neighbour index array (bytes) a single upload_lists may carry.
+  // Largest neighbour index array (bytes) one chunk may have.
   virtual std::size_t max_list_bytes() const = 0;
   // positions and normals: N by 3, row-major, re-centred, in curve order, unit normals.
   virtual void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) = 0;
-  // The lists the next run_chunk uses. `lists` must stay alive until the next upload_lists.
-  virtual void upload_lists(const CsrLists& lists) = 0;
+  // Storage for the CSR lists of points [first, first + count), `pairs` indices in all, that the
+  // caller fills before end_lists(). On OpenCL it is the mapped device buffer, so the lists are
+  // written once, straight where the kernel reads them (no host copy on CPU devices).
+  virtual ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) = 0;
+  // The filled lists become the ones run_chunk uses.
+  virtual void end_lists() = 0;
   // New normals for the points of the current lists, from the current normals.
   virtual void run_chunk(const Coefficients& coefficients) = 0;
   // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,

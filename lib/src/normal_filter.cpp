@@ -164,13 +164,17 @@ FilterResult NormalFilter::run(const PointCloud& cloud, const FilterParams& para
   backend.upload_cloud(ordered.positions, ordered.normals);
   summary.upload_seconds = seconds_since(start);
 
-  detail::CsrLists lists;
   auto load_chunk = [&](const detail::Chunk& chunk) {
     auto t = Clock::now();
-    lists = search.lists_within(reach, chunk.first, chunk.count, counts);
+    std::size_t pairs = 0;
+    for (std::size_t i = chunk.first; i < chunk.first + chunk.count; ++i) pairs += counts[i];
+    detail::ListStorage storage = backend.begin_lists(chunk.first, chunk.count, pairs);
+    summary.upload_seconds += seconds_since(t);
+    t = Clock::now();
+    search.fill_lists(reach, chunk.first, chunk.count, counts, storage.offsets, storage.indices);
     summary.neighbour_seconds += seconds_since(t);
     t = Clock::now();
-    backend.upload_lists(lists);
+    backend.end_lists();
     summary.upload_seconds += seconds_since(t);
   };
   const bool whole = chunks.size() == 1;

@@ -1,5 +1,6 @@
 #include "opencl_backend.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "cl_runtime.hpp"
@@ -42,25 +43,36 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
-  void upload_lists(const CsrLists& lists) override {
-    guarded([&] {
-      const std::size_t offset_bytes = lists.offsets.size() * sizeof(cl_ulong);
-      const std::size_t index_bytes = lists.indices.size() * sizeof(cl_uint);
-      // Buffers grow to the largest chunk and are then reused, so chunked passes reallocate nothing.
+  ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
+    return guarded([&] {
+      const std::size_t offset_bytes = (count + 1) * sizeof(cl_ulong);
+      const std::size_t index_bytes = std::max<std::size_t>(pairs, 1) * sizeof(cl_uint);
+      static_assert(sizeof(cl_ulong) == sizeof(std::uint64_t) && sizeof(cl_uint) == sizeof(std::uint32_t));
+      // Buffers grow to the largest chunk and are then reused, so chunked passes reallocate
+      // nothing. ALLOC_HOST_PTR lets a CPU device map them without a copy.
       if (offset_bytes > offsets_capacity_) {
-        offsets_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY, offset_bytes);
+        offsets_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, offset_bytes);
         offsets_capacity_ = offset_bytes;
       }
       if (index_bytes > indices_capacity_) {
-        indices_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY, index_bytes);
+        indices_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, index_bytes);
         indices_capacity_ = index_bytes;
       }
-      static_assert(sizeof(cl_ulong) == sizeof(std::uint64_t) && sizeof(cl_uint) == sizeof(std::uint32_t));
-      runtime_.queue().enqueueWriteBuffer(offsets_, CL_FALSE, 0, offset_bytes, lists.offsets.data());
-      runtime_.queue().enqueueWriteBuffer(indices_, CL_FALSE, 0, index_bytes, lists.indices.data());
+      cl::CommandQueue& q = runtime_.queue();
+      mapped_offsets_ = q.enqueueMapBuffer(offsets_, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, offset_bytes);
+      mapped_indices_ = q.enqueueMapBuffer(indices_, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, index_bytes);
+      chunk_begin_ = static_cast<cl_uint>(first);
+      chunk_count_ = static_cast<cl_uint>(count);
+      return ListStorage{static_cast<std::uint64_t*>(mapped_offsets_), static_cast<std::uint32_t*>(mapped_indices_)};
+    });
+  }
+
+  void end_lists() override {
+    guarded([&] {
+      runtime_.queue().enqueueUnmapMemObject(offsets_, mapped_offsets_);
+      runtime_.queue().enqueueUnmapMemObject(indices_, mapped_indices_);
+      mapped_offsets_ = mapped_indices_ = nullptr;
       runtime_.queue().finish();
-      chunk_begin_ = static_cast<cl_uint>(lists.first_point);
-      chunk_count_ = static_cast<cl_uint>(lists.point_count);
     });
   }
 
@@ -126,6 +138,8 @@ class OpenClBackend : public FilterBackend {
   cl::Buffer positions_, current_, next_, offsets_, indices_;
   std::size_t offsets_capacity_ = 0, indices_capacity_ = 0;
   cl_uint chunk_begin_ = 0, chunk_count_ = 0;
+  void* mapped_offsets_ = nullptr;
+  void* mapped_indices_ = nullptr;
   std::vector<cl::Event> events_;
 };
 

@@ -25,18 +25,25 @@ class ReferenceBackend : public FilterBackend {
     next_ = normals;
   }
 
-  void upload_lists(const CsrLists& lists) override { lists_ = &lists; }
+  ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
+    first_ = first;
+    count_ = count;
+    offsets_.resize(count + 1);
+    indices_.resize(pairs);
+    return {offsets_.data(), indices_.data()};
+  }
+
+  void end_lists() override {}
 
   void run_chunk(const Coefficients& coefficients) override {
     pnf_coeffs c;
     c.inv_two_sigma_f2 = coefficients.inv_two_sigma_f2;
     c.inv_two_sigma_g2 = coefficients.inv_two_sigma_g2;
-    const CsrLists& lists = *lists_;
-    const auto count = static_cast<std::int64_t>(lists.point_count);
+    const auto count = static_cast<std::int64_t>(count_);
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
     for (std::int64_t k = 0; k < count; ++k) {
-      auto s = static_cast<pnf_index>(lists.first_point + k);
-      pnf_vec3 n = pnf_filter_point(s, lists.indices.data(), lists.offsets[k], lists.offsets[k + 1], positions_.data(),
+      auto s = static_cast<pnf_index>(first_ + k);
+      pnf_vec3 n = pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(),
                                     current_.data(), c);
       next_[3 * std::size_t(s)] = n.x;
       next_[3 * std::size_t(s) + 1] = n.y;
@@ -58,7 +65,9 @@ class ReferenceBackend : public FilterBackend {
   std::vector<double> positions_;
   std::vector<double> current_;
   std::vector<double> next_;
-  const CsrLists* lists_ = nullptr;
+  std::size_t first_ = 0, count_ = 0;
+  std::vector<std::uint64_t> offsets_;
+  std::vector<std::uint32_t> indices_;
 };
 
 }  // namespace
