@@ -168,11 +168,14 @@ int main(int argc, char** argv) {
   std::string json_path = "pnf_bench.json", device, data_dir = PNF_SHARED_DATA_DIR;
   int repeats = 3, passes = 4;
   bool reference = false;
+  std::vector<int> lanes;
   app.add_option("--workloads", workloads, "face, dog, bunny (default all three)")->delimiter(',');
   app.add_option("--sweep", sweep, "also run the synthetic house at these sizes, e.g. 10000,100000,1000000")
       ->delimiter(',');
   app.add_option("--repeats", repeats, "timed runs per workload (default 3)")->check(CLI::PositiveNumber);
   app.add_option("--passes", passes, "passes per run (default 4)")->check(CLI::PositiveNumber);
+  app.add_option("--lanes", lanes, "also time these kernel lane counts, e.g. 1,4,8,16 (variants opencl-L<n>)")
+      ->delimiter(',');
   app.add_flag("--reference", reference, "also time the CPU reference on 1 thread and on all threads (slow)");
   app.add_option("--device", device, "OpenCL device selector (default $PNF_DEVICE)");
   app.add_option("--json", json_path, "where to write the results (default pnf_bench.json)");
@@ -193,6 +196,11 @@ int main(int argc, char** argv) {
       FilterOptions opencl;
       opencl.device = device;
       out.push_back(json(measure(w, "opencl", opencl, passes, repeats)));
+      for (int l : lanes) {
+        FilterOptions variant = opencl;
+        variant.lanes = l;
+        out.push_back(json(measure(w, "opencl-L" + std::to_string(l), variant, passes, repeats)));
+      }
       if (reference) {
         FilterOptions one;
         one.backend = Backend::reference;

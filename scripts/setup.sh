@@ -7,8 +7,9 @@ packages=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
   libeigen3-dev libflann-dev liblz4-dev
-  googletest libgtest-dev libbenchmark-dev
+  googletest libgtest-dev
   libcli11-dev libpng-dev
+  clang libclang-rt-14-dev libomp-dev
 )
 
 missing=()
