@@ -34,8 +34,7 @@ class NeighbourSearch {
   // (|p - s| <= radius, inclusive). Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
 
-  // The lists of points [first, first + count) within `radius`, in the kd-tree's traversal order
-  // (deterministic). `counts` is what count_within returned for the same radius; it sizes the
+  // The lists of points [first, first + count) within `radius`, each in ascending id order. `counts` is what count_within returned for the same radius; it sizes the
   // arrays before any search runs.
   CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts) const;
 
@@ -50,6 +49,11 @@ class NeighbourSearch {
 
  private:
   struct Tree;
+  // First point of each search block for `radius` (see the .cpp), then N.
+  std::vector<std::size_t> block_starts(double radius) const;
+  template <typename Visit>
+  void for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const;
+
   std::size_t point_count_;
   std::vector<double> positions_;
   std::unique_ptr<Tree> tree_;
