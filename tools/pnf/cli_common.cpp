@@ -1,11 +1,32 @@
 #include "cli_common.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 
 namespace pnf::cli {
+namespace {
+
+// Set by the SIGINT / SIGTERM handler, read by the progress callback after each pass.
+volatile std::sig_atomic_t interrupted = 0;
+
+void on_interrupt(int) { interrupted = 1; }
+
+// The first SIGINT or SIGTERM asks the run to stop after the current pass; SA_RESETHAND puts the
+// default action back, so a second one ends the process at once.
+void stop_after_pass_on_interrupt() {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+}  // namespace
 
 int report(const Error& e, Stage stage) {
   std::fprintf(stderr, "pnf: error: %s\n", e.what());
@@ -20,15 +41,16 @@ int report(const Error& e, Stage stage) {
 }
 
 ProgressCallback progress_bar(bool quiet) {
-  if (quiet || !isatty(STDERR_FILENO)) return [](const PassProgress&) { return true; };
+  stop_after_pass_on_interrupt();
+  if (quiet || !isatty(STDERR_FILENO)) return [](const PassProgress&) { return interrupted == 0; };
   return [](const PassProgress& p) {
     constexpr int kWidth = 30;
     int filled = p.passes > 0 ? kWidth * p.pass / p.passes : kWidth;
     std::fprintf(stderr, "\r  pass %d/%d [%s%s] %.2f s", p.pass, p.passes, std::string(filled, '#').c_str(),
                  std::string(kWidth - filled, ' ').c_str(), p.seconds);
-    if (p.pass == p.passes) std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
+    if (p.pass == p.passes || interrupted) std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
     std::fflush(stderr);
-    return true;
+    return interrupted == 0;
   };
 }
 

@@ -44,14 +44,15 @@ int run_demo(const DemoFlags& flags) {
   Stage stage = Stage::running;
   return guarded(stage, [&] {
     SyntheticCloud house = make_scanned_house(flags.points, flags.noise);
-    std::filesystem::create_directories(flags.dir);
-    const std::string noisy = flags.dir + "/house_noisy.ply", filtered = flags.dir + "/house_filtered.ply";
-    stage = Stage::writing;
-    write_point_file(noisy, PointFile(house.cloud));
-    stage = Stage::running;
     NormalFilter filter(flags.device.options());
     FilterResult result = filter.run(house.cloud, FilterParams{}, progress_bar(false));
+    // Written only after the run, so that a device failure leaves no folder and no half demo.
     stage = Stage::writing;
+    std::error_code ec;
+    std::filesystem::create_directories(flags.dir, ec);
+    if (ec) throw Error(ErrorCode::io, "cannot create the folder '" + flags.dir + "': " + ec.message());
+    const std::string noisy = flags.dir + "/house_noisy.ply", filtered = flags.dir + "/house_filtered.ply";
+    write_point_file(noisy, PointFile(house.cloud));
     PointFile out(house.cloud);
     out.set_normals(result.normals);
     write_point_file(filtered, out);

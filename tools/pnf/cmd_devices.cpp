@@ -17,7 +17,7 @@ Command add_devices_command(CLI::App& parent) {
               std::string selector = effective_device_selector(flags->device);
               std::vector<DeviceInfo> devices = list_devices(flags->device);
               if (devices.empty()) {
-                std::printf("no OpenCL platform found (on Debian: apt-get install pocl-opencl-icd)\n");
+                std::fprintf(stderr, "pnf: error: no OpenCL platform found (on Debian: apt-get install pocl-opencl-icd)\n");
                 return int(kDevice);
               }
               bool any = false;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -37,8 +38,10 @@ int run_estimate(const EstimateFlags& flags) {
     file.set_normals(normals);
     write_point_file(flags.out, file, WriteOptions{flags.ascii});
     if (!flags.quiet) {
-      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %d neighbours, oriented by %s, %.2f s%s\n  wrote %s\n",
-                   normals.size(), params.k, to_string(params.orientation), seconds,
+      // estimate_normals clamps k to N - 1 (N >= 3 here, or it would have thrown).
+      const std::size_t k = std::min(std::size_t(params.k), normals.size() - 1);
+      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %zu neighbours, oriented by %s, %.2f s%s\n  wrote %s\n",
+                   normals.size(), k, to_string(params.orientation), seconds,
                    replaced ? " (replaced the file's normals)" : "", flags.out.c_str());
     }
     return int(kOk);

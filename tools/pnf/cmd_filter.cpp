@@ -23,13 +23,17 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-void print_summary(const FilterFlags& f, const FilterSummary& s, double read_s, double write_s) {
+// `params` are the ones the run used: the flags' units and radius are applied to a copy.
+void print_summary(const FilterFlags& f, const FilterParams& params, const FilterSummary& s, double read_s,
+                   double write_s) {
   std::fprintf(stderr, "pnf filter: %zu points from %s (read in %.2f s)\n", s.points, f.in.c_str(), read_s);
-  if (f.params.units == Units::radius) {
+  if (params.units == Units::radius) {
     std::fprintf(stderr, "  mean radius  %.6g (%s)\n", s.mean_radius, to_string(s.radius_source));
+    std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (radius units: %g, %g)\n", s.sigma_f,
+                 s.sigma_g, params.sigma_f, params.sigma_g);
+  } else {
+    std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (absolute units)\n", s.sigma_f, s.sigma_g);
   }
-  std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (%s units: %g, %g)\n", s.sigma_f, s.sigma_g,
-               to_string(f.params.units), f.params.sigma_f, f.params.sigma_g);
   std::fprintf(stderr, "  neighbours   mean %.1f, max %zu per point; %zu pairs per pass in %zu chunk%s\n",
                s.neighbours_mean, s.neighbours_max, s.neighbour_pairs, s.chunks, s.chunks == 1 ? "" : "s");
   std::fprintf(stderr, "  device       %s [%s]\n", s.device.c_str(), s.backend.c_str());
@@ -64,7 +68,7 @@ int run_filter(const FilterFlags& flags) {
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
     write_point_file(flags.out, file, WriteOptions{flags.ascii});
-    if (!flags.quiet) print_summary(flags, result.summary, read_s, seconds_since(t));
+    if (!flags.quiet) print_summary(flags, params, result.summary, read_s, seconds_since(t));
     return int(kOk);
   });
 }
@@ -84,7 +88,8 @@ Command add_filter_command(CLI::App& parent) {
   app->add_option("--radius", flags->radius,
                   "mean surfel radius in model units (default: mean of the radius property, else estimated)");
   app->add_option("--memory-budget", flags->memory_mib,
-                  "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)");
+                  "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)")
+      ->check(CLI::NonNegativeNumber);
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
   app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");
