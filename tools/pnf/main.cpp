@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
       "Environment: PNF_DEVICE picks the OpenCL device (cpu, gpu, accelerator, P:D, or part of a name).");
   app.require_subcommand(1);
   std::vector<Command> commands = {add_filter_command(app), add_estimate_command(app), add_info_command(app),
-                                   add_devices_command(app), add_demo_command(app)};
+                                   add_devices_command(app), add_demo_command(app),
+                                   add_render_command(app), add_compare_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -61,23 +61,24 @@ struct RenderOptions {
   RenderMode mode = RenderMode::shaded;
 
   // Surfel radius = radius_scale * (the point's `radius` property when the cloud has radii, else
-  // estimate_mean_radius(positions), the spacing the filter also uses), never less than 0.75
-  // pixel so that a dense cloud drawn small keeps no holes (0.75 > sqrt(2)/2 reaches every pixel
-  // centre the point's own pixel could hold). > 0, at most 100. Default 1: the estimate is
-  // the sample spacing h (exactly h on a square grid), and disks of radius h cover a grid of
-  // spacing h with room to spare (sqrt(2)/2 h would just close the holes), which also absorbs
-  // jittered spacing and disks tilted by noisy normals (a disk tilted by 45 degrees still reaches
-  // sqrt(2)/2 h across).
-  double radius_scale = 1.0;
+  // estimate_mean_radius(positions), the spacing h the filter also uses), never less than 0.75
+  // pixel so that a dense cloud drawn small keeps no holes (a pixel's centre is within sqrt(2)/2
+  // pixel of any point in it). > 0, at most 100. Default 1.2: disks of radius sqrt(2)/2 h just
+  // close a square grid of spacing h, 1 closes grids jittered by up to 0.3 h, and 1.2 closes
+  // those jittered by up to half a spacing (a uniform but irregular sampling) from any view, and
+  // leaves at most isolated pixels open where normals noisy by 15 degrees tilt the disks away
+  // from the surface. Larger disks would hide more of each other, and with them detail.
+  double radius_scale = 1.2;
 
   // Shading of RenderMode::shaded, each >= 0 and finite: a surfel with unit normal n (camera
   // coordinates, flipped toward the viewer), unit light l and half vector h = (l + v)/|l + v|,
   // v = (0, 0, 1), gets grey level
   //   255 * clamp(ambient + diffuse * max(0, n.l) + specular * max(0, n.h)^shininess, 0, 1),
-  // the specular term only where n.l > 0. Defaults 0.12, 0.75, 0.2, 40 (shininess > 0).
-  double ambient = 0.12;
-  double diffuse = 0.75;
-  double specular = 0.2;
+  // the specular term only where n.l > 0. Defaults 0.1, 0.7, 0.15, 40 (shininess > 0): they sum
+  // to 0.95, so that the brightest highlight (242) stays apart from the white background.
+  double ambient = 0.1;
+  double diffuse = 0.7;
+  double specular = 0.15;
   double shininess = 40;
 
   // Error mode: angles at or above this many degrees get the top colour. In (0, 180]. Default 30,

@@ -100,7 +100,7 @@ Rgb viridis(double t) {
 void draw_colour_bar(Image& image, int x0, double max_degrees) {
   const Rgb ink{0, 0, 0};
   // Font pixels are doubled on images tall enough that single pixels would look tiny.
-  const int scale = image.height >= 300 ? 2 : 1;
+  const int scale = image.height >= 240 ? 2 : 1;
   const int glyph_height = kGlyphHeight * scale;
   // The bar leaves half a label height above and below so the end labels fit in the image.
   const int top = std::max(glyph_height, image.height / 10);
