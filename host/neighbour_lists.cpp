@@ -205,6 +205,32 @@ void NeighbourSearch::fill_lists(double radius, std::size_t first, std::size_t c
   }
 }
 
+double NeighbourSearch::estimate_pairs(double radius) const {
+  // Enough samples to see a dense region covering a few percent of the cloud.
+  constexpr std::size_t kSamples = 256;
+  if (point_count_ == 0) return 0;
+  const std::size_t samples = std::min(kSamples, point_count_);
+  std::vector<double> sampled(samples);
+  const flann::SearchParams params = exact_search();
+  const double radius2 = radius * radius;
+  const auto n = static_cast<std::int64_t>(samples);
+#pragma omp parallel
+  {
+    std::vector<std::uint32_t> ids;
+#pragma omp for schedule(dynamic, 1)
+    for (std::int64_t s = 0; s < n; ++s) {
+      const std::size_t i = static_cast<std::size_t>(s) * point_count_ / samples;
+      ids.clear();
+      CollectingResultSet result(radius2 * (1 + kCandidateMargin), ids);
+      tree_->index.findNeighbors(result, &positions_[3 * i], params);
+      sampled[s] = double(ids.size());
+    }
+  }
+  double sum = 0;
+  for (double v : sampled) sum += v;
+  return sum / double(samples) * double(point_count_);
+}
+
 std::vector<double> NeighbourSearch::mean_knn_distance(int k, std::size_t max_samples) const {
   if (point_count_ < static_cast<std::size_t>(k) + 1 || max_samples == 0) return {};
   const std::size_t samples = std::min(max_samples, point_count_);

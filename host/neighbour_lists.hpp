@@ -34,6 +34,11 @@ class NeighbourSearch {
   // (|p - s| <= radius, inclusive). Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
 
+  // An estimate of the sum of count_within(radius) from a sample of points spread through the
+  // cloud: cheap when that sum is huge (cost: samples x neighbours), so a run can be refused
+  // before the exact count, which costs about the sum itself.
+  double estimate_pairs(double radius) const;
+
   // The lists of points [first, first + count) within `radius`, each in ascending id order. `counts` is what count_within returned for the same radius; it sizes the
   // arrays before any search runs.
   CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts) const;

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 
+#include "cl_runtime.hpp"
 #include "device_select.hpp"
 #include "pnf/device.hpp"
 #include "pnf/error.hpp"
@@ -79,6 +80,30 @@ TEST(Devices, ListMarksTheSelectedDevice) {
   EXPECT_LE(selected, 1);
   for (const DeviceInfo& d : devices) {
     if (d.selected) EXPECT_EQ(d.type, "cpu");
+  }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Devices, AKernelThatFailsToBuildShowsItsBuildLog) {
+  std::vector<DeviceInfo> devices = pnf::list_devices();
+  if (devices.empty()) {
+    if (std::getenv("PNF_DEVICE")) FAIL() << "PNF_DEVICE is set but no OpenCL device was found";
+    GTEST_SKIP() << "no OpenCL platform on this machine";
+  }
+  pnf::detail::ClRuntime runtime("");
+  try {
+    runtime.kernel("filter.cl", "pnf_filter_pass", "-cl-std=CL1.2 -DPNF_LANES=3");  // #error in pnf_common.h
+    FAIL() << "the build succeeded";
+  } catch (const pnf::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.code(), pnf::ErrorCode::device);
+    EXPECT_NE(what.find("options '-cl-std=CL1.2 -DPNF_LANES=3'"), std::string::npos) << what;
+    EXPECT_NE(what.find("build log"), std::string::npos) << what;
+    EXPECT_NE(what.find("PNF_LANES must be 1, 4, 8 or 16"), std::string::npos) << what;
+    EXPECT_NE(what.find("pnf_common.h"), std::string::npos) << "the #line markers name the real file: " << what;
   }
 }
 

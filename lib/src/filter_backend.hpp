@@ -4,6 +4,8 @@
 
 #include <cstdint>
 #include <string>
+
+#include "pnf/error.hpp"
 #include <vector>
 
 
@@ -13,6 +15,13 @@ namespace pnf::detail {
 struct Coefficients {
   double inv_two_sigma_f2 = 0;
   double inv_two_sigma_g2 = 0;
+};
+
+// Thrown by a backend when the device refuses an allocation (out of device memory or
+// resources); the engine then retries with smaller chunks.
+class DeviceMemoryError : public Error {
+ public:
+  explicit DeviceMemoryError(const std::string& message) : Error(ErrorCode::device, message) {}
 };
 
 struct ListStorage {

@@ -18,6 +18,8 @@ namespace detail {
 
 double estimate_mean_radius(const NeighbourSearch& search) {
   std::vector<double> distances = search.mean_knn_distance(kSpacingNeighbours, kMaxSpacingSamples);
+  // A point whose 4 nearest are all duplicates of it says nothing about the spacing.
+  distances.erase(std::remove(distances.begin(), distances.end(), 0.0), distances.end());
   if (distances.empty()) return 0;
   auto middle = distances.begin() + distances.size() / 2;
   std::nth_element(distances.begin(), middle, distances.end());

@@ -126,9 +126,22 @@ class OpenClBackend : public FilterBackend {
   }
 
  private:
+  // Turns cl::Error into pnf::Error; a refused allocation into DeviceMemoryError, which the
+  // engine answers with smaller chunks.
   template <typename Body>
   auto guarded(Body&& body) -> decltype(body()) {
-    return with_cl_errors(runtime_.info().device_name, std::forward<Body>(body));
+    try {
+      return body();
+    } catch (const cl::Error& e) {
+      const cl_int code = e.err();
+      const std::string what = std::string("OpenCL call ") + e.what() + " failed with " + cl_error_name(code) +
+                               " on device '" + runtime_.info().device_name + "'";
+      if (code == CL_MEM_OBJECT_ALLOCATION_FAILURE || code == CL_OUT_OF_RESOURCES || code == CL_OUT_OF_HOST_MEMORY ||
+          code == CL_INVALID_BUFFER_SIZE) {
+        throw DeviceMemoryError(what);
+      }
+      throw Error(ErrorCode::device, what);
+    }
   }
 
   ClRuntime runtime_;

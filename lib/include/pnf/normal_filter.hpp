@@ -33,6 +33,10 @@ struct FilterOptions {
   // that is host memory). Default 3 GiB: the paper's 400k-point dog (1.3 GB of lists) stays
   // whole, a 2M-point cloud at sigma_f 8 (6.5 GB) runs in chunks under 4 GiB in all.
   std::size_t memory_budget_bytes = std::size_t(3) << 30;
+  // A run whose neighbour lists would pass this many pairs is refused before they are counted
+  // or built, with the estimate in the message: at 2^36 (default) the lists alone take 256 GiB,
+  // and a pass takes minutes even on a GPU. Typical scans have 50 to 1000 neighbours a point.
+  std::size_t max_neighbour_pairs = std::size_t(1) << 36;
   // Threads for the reference backend; 0 (default) means all cores.
   int threads = 0;
   // Neighbours the OpenCL kernel takes per vector step: 1, 4, 8 or 16; 0 (default) picks 16 on
@@ -56,6 +60,7 @@ struct FilterSummary {
   std::size_t neighbour_pairs = 0;  // sum of list lengths, per pass
   std::size_t chunks = 0;           // 1 when the lists fit the memory budget
   std::size_t device_bytes = 0;     // device buffers held (0 for the reference backend)
+  int allocation_retries = 0;       // times the device refused a buffer and chunks were halved
   std::string backend;
   std::string device;                 // the device, with platform and driver
   double neighbour_seconds = 0;       // counting and building the lists (all passes if chunked)

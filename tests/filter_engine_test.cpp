@@ -1,0 +1,138 @@
+// The engine's answers to a device that runs out of memory and to neighbourhoods too wide to
+// build, with a backend that refuses allocations on purpose.
+#include "filter_engine.hpp"
+
+#include <gtest/gtest.h>
+
+#include "reference_backend.hpp"
+#include "test_clouds.hpp"
+
+namespace {
+
+using namespace pnf::test;
+using pnf::detail::FilterBackend;
+using pnf::detail::ListStorage;
+
+// The reference backend, but any list chunk over `limit` bytes is refused like a full device.
+class RefusingBackend : public FilterBackend {
+ public:
+  explicit RefusingBackend(std::size_t limit) : inner_(pnf::detail::make_reference_backend(1)), limit_(limit) {}
+  std::string description() const override { return "refusing test backend"; }
+  std::size_t max_list_bytes() const override { return inner_->max_list_bytes(); }
+  void upload_cloud(const std::vector<double>& p, const std::vector<double>& n) override { inner_->upload_cloud(p, n); }
+  ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
+    if (pairs * 4 + (count + 1) * 8 > limit_) {
+      ++refusals;
+      throw pnf::detail::DeviceMemoryError("test device refuses " + std::to_string(pairs * 4) + " bytes");
+    }
+    return inner_->begin_lists(first, count, pairs);
+  }
+  void end_lists() override { inner_->end_lists(); }
+  void run_chunk(const pnf::detail::Coefficients& c) override { inner_->run_chunk(c); }
+  double end_pass() override { return inner_->end_pass(); }
+  std::size_t device_bytes() const override { return 0; }
+  std::vector<double> download_normals() override { return inner_->download_normals(); }
+  int refusals = 0;
+
+ private:
+  std::unique_ptr<FilterBackend> inner_;
+  std::size_t limit_;
+};
+
+pnf::PointCloud noisy_sphere(int n, unsigned seed) {
+  pnf::PointCloud ball = sphere(n, 5.0, seed);
+  std::mt19937 rng(seed + 1);
+  for (pnf::Vec3& v : ball.normals) v = jitter_normal(v, 20, rng);
+  return ball;
+}
+
+TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
+  pnf::PointCloud ball = noisy_sphere(3000, 1);
+  pnf::FilterOptions options;
+  options.backend = pnf::Backend::reference;
+  auto whole_backend = pnf::detail::make_reference_backend(1);
+  pnf::FilterResult whole = pnf::detail::run_filter(*whole_backend, options, ball, {}, {});
+  ASSERT_EQ(whole.summary.chunks, 1u);
+
+  RefusingBackend refusing(whole.summary.neighbour_pairs * 4 / 5);  // a fifth of the lists at a time
+  pnf::FilterResult chunked = pnf::detail::run_filter(refusing, options, ball, {}, {});
+  EXPECT_GE(refusing.refusals, 1);
+  EXPECT_GE(chunked.summary.allocation_retries, 1);
+  EXPECT_GE(chunked.summary.chunks, 5u);
+  EXPECT_EQ(chunked.normals, whole.normals);
+}
+
+TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {
+  pnf::PointCloud ball = noisy_sphere(500, 2);
+  pnf::FilterOptions options;
+  options.backend = pnf::Backend::reference;
+  RefusingBackend refusing(16);
+  try {
+    pnf::detail::run_filter(refusing, options, ball, {}, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::device);
+    EXPECT_NE(std::string(e.what()).find("even one point's neighbour list does not fit"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
+  // 200k points and sigma_f wider than the cloud: 4e10 pairs, 160 GB of lists. Refused from a
+  // sample before any count or allocation, so this test takes well under a second.
+  pnf::PointCloud ball = noisy_sphere(200000, 3);
+  pnf::FilterParams params;
+  params.units = pnf::Units::absolute;
+  params.sigma_f = 100;
+  pnf::FilterOptions options;
+  options.backend = pnf::Backend::reference;
+  options.max_neighbour_pairs = std::size_t(1) << 32;
+  auto backend = pnf::detail::make_reference_backend(0);
+  try {
+    pnf::detail::run_filter(*backend, options, ball, params, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_argument);
+    EXPECT_NE(what.find("about 200000 neighbours per point"), std::string::npos) << what;
+    EXPECT_NE(what.find("149.0 GiB of lists"), std::string::npos) << what;
+  }
+}
+
+TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
+  // A line has no surface normal to converge to, so there is no exact answer to expect; what
+  // must hold is what SPEC promises of any input: unit, finite, never flipped, no crash.
+  pnf::PointCloud line;
+  std::mt19937 rng(4);
+  for (int i = 0; i < 400; ++i) {
+    line.positions.push_back({0.1 * i, 0, 0});
+    line.normals.push_back(jitter_normal({0, 0, 1}, 10, rng));
+  }
+  auto backend = pnf::detail::make_reference_backend(1);
+  pnf::FilterOptions options;
+  options.backend = pnf::Backend::reference;
+  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, line, {}, {});
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    EXPECT_NEAR(norm(r.normals[i]), 1.0, 1e-12) << i;
+    EXPECT_GT(dot(r.normals[i], line.normals[i]), 0) << i;
+  }
+}
+
+TEST(FilterEngine, ThousandsOfDuplicatesOfOnePointAreFine) {
+  pnf::PointCloud cloud = jittered_grid(40, 1.0, 0.2, 5);
+  std::mt19937 rng(6);
+  for (pnf::Vec3& n : cloud.normals) n = jitter_normal(n, 10, rng);
+  for (int i = 0; i < 5000; ++i) {  // three times as many duplicates as grid points
+    cloud.positions.push_back({20, 20, 0});
+    cloud.normals.push_back(jitter_normal({0, 0, 1}, 10, rng));
+  }
+  auto backend = pnf::detail::make_reference_backend(0);
+  pnf::FilterOptions options;
+  options.backend = pnf::Backend::reference;
+  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, cloud, {}, {});
+  EXPECT_EQ(r.summary.radius_source, pnf::RadiusSource::estimate);
+  EXPECT_NEAR(r.summary.mean_radius, 1.0, 0.25) << "the estimate leaves the duplicates out";
+  EXPECT_GE(r.summary.neighbours_max, 5000u);
+  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LE(angle_deg(r.normals[i], {0, 0, 1}), 10.0) << i;
+}
+
+}  // namespace
