@@ -325,3 +325,29 @@ INSTANTIATE_TEST_SUITE_P(Backends, NormalFilterTest, ::testing::Values(Backend::
                          [](const auto& info) { return std::string(pnf::to_string(info.param)); });
 
 }  // namespace
+
+namespace {
+
+TEST(StopRule, PassesEndWhenTheNormalsStopChanging) {
+  pnf::PointCloud plane = pnf::test::jittered_grid(40, 1.0, 0.2, 40);
+  std::mt19937 rng(41);
+  for (pnf::Vec3& n : plane.normals) n = pnf::test::jitter_normal(n, 15, rng);
+  pnf::FilterParams params;
+  params.iterations = 50;
+  params.stop_change_deg = 0.05;
+  pnf::FilterResult r = pnf::test::reference_filter()->run(plane, params);
+  ASSERT_GE(r.summary.passes_run, 2);
+  EXPECT_LT(r.summary.passes_run, 50) << "a plane settles long before 50 passes";
+  ASSERT_EQ(r.summary.mean_change_deg.size(), std::size_t(r.summary.passes_run));
+  EXPECT_LT(r.summary.mean_change_deg.back(), 0.05);
+  for (std::size_t k = 0; k + 1 < r.summary.mean_change_deg.size(); ++k) EXPECT_GE(r.summary.mean_change_deg[k], 0.05);
+  // The first change is the whole first pass: independently, the mean angle input -> pass 1.
+  params.iterations = 1;
+  params.stop_change_deg = 0;
+  std::vector<pnf::Vec3> one = pnf::test::reference_filter()->run(plane, params).normals;
+  std::vector<pnf::Vec3> unit(plane.size());
+  for (std::size_t i = 0; i < plane.size(); ++i) unit[i] = pnf::test::normalized(plane.normals[i]);
+  EXPECT_NEAR(r.summary.mean_change_deg[0], pnf::test::mean_angle_deg(unit, one), 1e-9);
+}
+
+}  // namespace

@@ -80,6 +80,19 @@ double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, 
 }
 
 
+// Mean angle in degrees between two N by 3 arrays of unit vectors (atan2: exact near 0).
+double mean_angle_deg(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0;
+  const std::size_t n = a.size() / 3;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* u = &a[3 * i];
+    const double* v = &b[3 * i];
+    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+    sum += std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+  }
+  return n > 0 ? sum / double(n) * 180.0 / 3.14159265358979323846 : 0.0;
+}
+
 std::string gib(double bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f GiB", bytes / double(std::size_t(1) << 30));
@@ -170,6 +183,9 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
       const bool whole = chunks.size() == 1;
       if (whole) load_chunk(chunks[0]);  // built once, kept on the device for every pass
 
+      std::vector<double> previous = ordered.normals;  // for the stop rule
+      summary.mean_change_deg.clear();
+      summary.passes_run = 0;
       for (int pass = 1; pass <= params.iterations; ++pass) {
         auto pass_start = Clock::now();
         for (const Chunk& chunk : chunks) {
@@ -178,8 +194,15 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
         }
         summary.kernel_seconds.push_back(backend.end_pass());
         summary.pass_seconds.push_back(seconds_since(pass_start));
+        summary.passes_run = pass;
         if (progress && !progress(PassProgress{pass, params.iterations, summary.pass_seconds.back()})) {
           throw Error(ErrorCode::cancelled, "cancelled after pass " + std::to_string(pass));
+        }
+        if (params.stop_change_deg > 0) {
+          std::vector<double> current = backend.download_normals();
+          summary.mean_change_deg.push_back(mean_angle_deg(previous, current));
+          if (summary.mean_change_deg.back() < params.stop_change_deg) break;
+          previous.swap(current);
         }
       }
       break;

@@ -23,6 +23,8 @@ void FilterParams::validate() const {
   require(std::isfinite(sigma_f) && sigma_f > 0, "sigma_f", sigma_f, "finite and > 0");
   require(std::isfinite(sigma_g) && sigma_g > 0, "sigma_g", sigma_g, "finite and > 0");
   require(iterations >= 0, "iterations", iterations, ">= 0");
+  require(std::isfinite(stop_change_deg) && stop_change_deg >= 0, "stop_change_deg", stop_change_deg,
+          "finite and >= 0 (0: no stop rule)");
   require(std::isfinite(mean_radius) && mean_radius >= 0, "mean_radius", mean_radius,
           "finite and >= 0 (0: from the data)");
   require(units == Units::radius || units == Units::absolute, "units", static_cast<int>(units),

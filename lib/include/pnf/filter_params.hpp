@@ -20,7 +20,12 @@ struct FilterParams {
   // feature-preserving term. > 0, finite. Default 0.5.
   double sigma_g = 0.5;
   // Number of passes; each pass uses the previous pass's normals (Jacobi). >= 0. Default 4.
+  // With stop_change_deg > 0 this is the most passes that run.
   int iterations = 4;
+  // Stop rule: when > 0, passes end early once the mean angle between a pass's normals and the
+  // previous pass's falls below this many degrees. 0 (default): always run `iterations` passes.
+  // >= 0, finite. Costs one read-back of the normals per pass.
+  double stop_change_deg = 0.0;
   // Units of sigma_f and sigma_g. Default Units::radius.
   Units units = Units::radius;
   // The mean surfel radius in model units, for Units::radius. 0 (default) means: the mean of the

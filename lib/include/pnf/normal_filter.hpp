@@ -67,6 +67,8 @@ struct FilterSummary {
   double upload_seconds = 0;          // positions, normals and lists to the device
   std::vector<double> pass_seconds;   // wall time of each pass
   std::vector<double> kernel_seconds; // device time of each pass (OpenCL event profiling)
+  int passes_run = 0;                 // < iterations when the stop rule ended the run early
+  std::vector<double> mean_change_deg;  // per pass, with the stop rule: mean angle to the previous pass
 };
 
 struct FilterResult {
