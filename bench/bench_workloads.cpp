@@ -24,6 +24,7 @@ Workload synthetic(const std::string& name, std::size_t points, double sigma_f, 
 Workload make_workload(const std::string& name, const std::string& shared_data_dir) {
   if (name == "face") return synthetic(name, 75000, 4, 0.5);
   if (name == "dog") return synthetic(name, 400000, 8, 0.5);
+  if (name == "big") return synthetic(name, 2000000, 8, 0.5);
   if (name.rfind("sweep-", 0) == 0) return synthetic(name, std::stoul(name.substr(6)), 4, 0.5);
   if (name == "bunny") {
     const std::string path = shared_data_dir + "/bunny_scans_merged.ply";
