@@ -28,6 +28,7 @@ class RefusingBackend : public FilterBackend {
     return inner_->begin_lists(first, count, pairs);
   }
   void end_lists() override { inner_->end_lists(); }
+  void wait() override { inner_->wait(); }
   void run_chunk(const pnf::detail::Coefficients& c) override { inner_->run_chunk(c); }
   double end_pass() override { return inner_->end_pass(); }
   std::size_t device_bytes() const override { return 0; }

@@ -37,6 +37,8 @@ class FilterBackend {
   virtual std::size_t max_list_bytes() const = 0;
   // positions and normals: N by 3, row-major, re-centred, in curve order, unit normals.
   virtual void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) = 0;
+  // Blocks until the device has finished all work queued so far.
+  virtual void wait() = 0;
   // Storage for the CSR lists of points [first, first + count), `pairs` indices in all, that the
   // caller fills before end_lists(). On OpenCL it is the mapped device buffer, so the lists are
   // written once, straight where the kernel reads them (no host copy on CPU devices).

@@ -167,6 +167,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
       summary.upload_seconds += seconds_since(start);
 
       auto load_chunk = [&](const Chunk& chunk) {
+        backend.wait();  // the previous chunk's kernel still reads the buffers; its time is the pass's
         auto t = Clock::now();
         std::size_t pairs = 0;
         for (std::size_t i = chunk.first; i < chunk.first + chunk.count; ++i) pairs += counts[i];

@@ -67,6 +67,10 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
+  void wait() override {
+    guarded([&] { runtime_.queue().finish(); });
+  }
+
   void end_lists() override {
     guarded([&] {
       runtime_.queue().enqueueUnmapMemObject(offsets_, mapped_offsets_);

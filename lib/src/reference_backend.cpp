@@ -34,6 +34,7 @@ class ReferenceBackend : public FilterBackend {
   }
 
   void end_lists() override {}
+  void wait() override {}
 
   void run_chunk(const Coefficients& coefficients) override {
     pnf_coeffs c;
