@@ -10,6 +10,7 @@ packages=(
   googletest libgtest-dev
   libcli11-dev libpng-dev
   clang libclang-rt-14-dev libomp-dev
+  python3-matplotlib
 )
 
 missing=()
