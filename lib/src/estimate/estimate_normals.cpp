@@ -16,6 +16,7 @@
 #endif
 
 #include "orient_normals.hpp"
+#include "spatial_order.hpp"
 #include "pnf/error.hpp"
 
 namespace pnf {
@@ -77,45 +78,6 @@ Box bounding_box(const std::vector<Vec3>& positions) {
     }
   }
   return box;
-}
-
-// Bits per axis of the Morton code: 3 x 21 = 63 bits fit one std::uint64_t.
-constexpr int kMortonBits = 21;
-
-// Spreads the low 21 bits of x so that bit i lands on bit 3 i.
-std::uint64_t spread_bits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
-
-// A permutation of the points along a Morton (Z-order) curve over the bounding box, ties by
-// index. Working in this order puts spatial neighbours near each other in memory, which makes the
-// kd-tree queries, the PCA gathers and the mst traversal several times more cache-friendly than
-// an arbitrary input order (a scan's row order, a shuffled file).
-std::vector<std::size_t> spatial_order(const std::vector<Vec3>& positions, const Box& box) {
-  double extent = 0.0;
-  for (int axis = 0; axis < 3; ++axis) extent = std::max(extent, box.high[axis] - box.low[axis]);
-  const double cells = static_cast<double>((std::uint64_t{1} << kMortonBits) - 1);
-  const double scale = extent > 0.0 ? cells / extent : 0.0;
-
-  std::vector<std::pair<std::uint64_t, std::size_t>> keyed(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    std::uint64_t code = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double cell = std::min(cells, (positions[i][axis] - box.low[axis]) * scale);
-      code |= spread_bits(static_cast<std::uint64_t>(cell)) << axis;
-    }
-    keyed[i] = {code, i};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::size_t> order(positions.size());
-  for (std::size_t s = 0; s < order.size(); ++s) order[s] = keyed[s].second;
-  return order;
 }
 
 // The k nearest other points of every point, by an exact kd-tree search. Coordinates are taken
@@ -262,7 +224,9 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions,
   const int k = static_cast<int>(
       std::min<std::size_t>(static_cast<std::size_t>(params.k), positions.size() - 1));
   const Box box = bounding_box(positions);
-  const std::vector<std::size_t> order = spatial_order(positions, box);
+  // Curve order puts spatial neighbours near each other in memory: the kd-tree queries, PCA
+  // gathers and mst traversal run several times faster than in a scan's row order.
+  const std::vector<std::uint32_t> order = detail::morton_order(positions);
   std::vector<Vec3> sorted(positions.size());
   for (std::size_t s = 0; s < order.size(); ++s) sorted[s] = positions[order[s]];
 
