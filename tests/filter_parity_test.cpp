@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "pnf/point_file.hpp"
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
 
@@ -99,6 +100,10 @@ TEST(FilterParity, RealScans) {
     ASSERT_GT(cloud.size(), 1000u) << name;
     expect_parity(cloud, pnf::FilterParams{}, name);
   }
+  // A resampled Stanford Armadillo with its own normals, through the PLY reader.
+  PointCloud armadillo = pnf::read_point_file(dir + "/Armadillo.ply").cloud();
+  ASSERT_EQ(armadillo.size(), 38294u);
+  expect_parity(armadillo, pnf::FilterParams{}, "Armadillo.ply");
 }
 
 }  // namespace
