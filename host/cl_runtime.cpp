@@ -43,6 +43,8 @@ std::vector<FoundDevice> enumerate_devices() {
       f.info.platform_index = static_cast<int>(p);
       f.info.device_index = static_cast<int>(d);
       f.info.platform_name = platforms[p].getInfo<CL_PLATFORM_NAME>();
+      f.info.platform_vendor = platforms[p].getInfo<CL_PLATFORM_VENDOR>();
+      f.info.device_vendor = devices[d].getInfo<CL_DEVICE_VENDOR>();
       f.info.device_name = devices[d].getInfo<CL_DEVICE_NAME>();
       f.info.type = type_name(devices[d].getInfo<CL_DEVICE_TYPE>());
       f.info.version = devices[d].getInfo<CL_DEVICE_VERSION>();

@@ -50,9 +50,9 @@ int choose_device(const std::vector<DeviceInfo>& devices, const std::string& sel
     return -1;
   }
   for (std::size_t i = 0; i < devices.size(); ++i) {
-    if (lower(devices[i].device_name).find(s) != std::string::npos ||
-        lower(devices[i].platform_name).find(s) != std::string::npos) {
-      return static_cast<int>(i);
+    const DeviceInfo& d = devices[i];
+    for (const std::string& name : {d.device_name, d.platform_name, d.platform_vendor, d.device_vendor}) {
+      if (lower(name).find(s) != std::string::npos) return static_cast<int>(i);
     }
   }
   return -1;
