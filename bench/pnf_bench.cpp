@@ -3,11 +3,11 @@
 // Each workload runs in its own child process so that its peak host memory (ru_maxrss) is its
 // own. Per workload and variant: one warm-up pass (program build and first-touch excluded), then
 // `--repeats` full runs; figures are medians with the min..max spread of the per-run medians.
-#include <CLI/CLI.hpp>
 #include <sys/resource.h>
 #include <sys/utsname.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -230,8 +230,10 @@ int main(int argc, char** argv) {
   std::printf("\nratios (same run): neighbour lists / one OpenCL pass; reference pass / OpenCL pass\n");
   for (const std::string& r : rows) {
     const std::string w = field(r, "workload"), v = field(r, "variant");
-    if (v == "opencl") std::printf("  %-12s lists/pass %.2f\n", w.c_str(), num(r, "list_build_s") / num(r, "pass_s"));
-    else if (opencl_pass[w] > 0) std::printf("  %-12s %s / opencl %.2f\n", w.c_str(), v.c_str(), num(r, "pass_s") / opencl_pass[w]);
+    if (v == "opencl")
+      std::printf("  %-12s lists/pass %.2f\n", w.c_str(), num(r, "list_build_s") / num(r, "pass_s"));
+    else if (opencl_pass[w] > 0)
+      std::printf("  %-12s %s / opencl %.2f\n", w.c_str(), v.c_str(), num(r, "pass_s") / opencl_pass[w]);
   }
   if (!rows.empty()) std::printf("device: %s\n", field(rows[0], "device").c_str());
 
@@ -241,9 +243,10 @@ int main(int argc, char** argv) {
   std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   std::ofstream out(json_path);
-  out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine << "\",\"cpus\":"
-      << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\"" << command_output("git rev-parse --short HEAD 2>/dev/null")
-      << "\",\"flops_per_pair\":" << kFlopsPerPair << ",\"repeats\":" << repeats << ",\"results\":[\n";
+  out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine
+      << "\",\"cpus\":" << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\""
+      << command_output("git rev-parse --short HEAD 2>/dev/null") << "\",\"flops_per_pair\":" << kFlopsPerPair
+      << ",\"repeats\":" << repeats << ",\"results\":[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i] << (i + 1 < rows.size() ? ",\n" : "\n");
   out << "]}\n";
   std::printf("wrote %s\n", json_path.c_str());

@@ -67,8 +67,7 @@ std::vector<DeviceInfo> infos(const std::vector<FoundDevice>& found) {
 std::string cl_error_name(cl_int code) {
   switch (code) {
 #define PNF_CL_CODE(name) \
-  case name:              \
-    return #name;
+  case name: return #name;
     PNF_CL_CODE(CL_SUCCESS)
     PNF_CL_CODE(CL_DEVICE_NOT_FOUND)
     PNF_CL_CODE(CL_DEVICE_NOT_AVAILABLE)
@@ -101,8 +100,7 @@ std::string cl_error_name(cl_int code) {
     PNF_CL_CODE(CL_INVALID_BUFFER_SIZE)
     PNF_CL_CODE(CL_INVALID_GLOBAL_WORK_SIZE)
 #undef PNF_CL_CODE
-    default:
-      return "CL_UNKNOWN_ERROR(" + std::to_string(code) + ")";
+    default: return "CL_UNKNOWN_ERROR(" + std::to_string(code) + ")";
   }
 }
 
@@ -128,8 +126,7 @@ cl::Kernel ClRuntime::kernel(const std::string& file, const std::string& kernel_
   const std::string key = file + '\n' + options;
   auto it = programs_.find(key);
   if (it == programs_.end()) {
-    cl::Program program =
-        with_cl_errors(info_.device_name, [&] { return cl::Program(context_, kernel_source(file)); });
+    cl::Program program = with_cl_errors(info_.device_name, [&] { return cl::Program(context_, kernel_source(file)); });
     try {
       program.build({device_}, options.c_str());
     } catch (const cl::Error& e) {

@@ -24,7 +24,8 @@ bool parse_index_pair(const std::string& s, int& platform, int& device) {
   auto colon = s.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == s.size()) return false;
   auto all_digits = [](const std::string& t) {
-    return !t.empty() && t.size() < 6 && std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); });
+    return !t.empty() && t.size() < 6 &&
+           std::all_of(t.begin(), t.end(), [](unsigned char c) { return std::isdigit(c); });
   };
   std::string p = s.substr(0, colon), d = s.substr(colon + 1);
   if (!all_digits(p) || !all_digits(d)) return false;
@@ -62,8 +63,9 @@ std::string no_device_message(const std::vector<DeviceInfo>& devices, const std:
   std::string what = selector.empty() ? std::string("no GPU or CPU OpenCL device found")
                                       : "no OpenCL device matches '" + selector + "'";
   if (devices.empty()) {
-    return what + "; no OpenCL platform is installed (on Debian: apt-get install pocl-opencl-icd), "
-                  "or use the CPU reference backend";
+    return what +
+           "; no OpenCL platform is installed (on Debian: apt-get install pocl-opencl-icd), "
+           "or use the CPU reference backend";
   }
   std::string msg = what + "; found:";
   for (const DeviceInfo& d : devices) {

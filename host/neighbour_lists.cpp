@@ -18,7 +18,8 @@ using Distance = flann::L2<double>;  // NB: FLANN's L2 is the SQUARED Euclidean 
 // Collects the ids of a candidate search.
 class CollectingResultSet : public flann::ResultSet<double> {
  public:
-  CollectingResultSet(double squared_limit, std::vector<std::uint32_t>& out) : squared_limit_(squared_limit), out_(out) {}
+  CollectingResultSet(double squared_limit, std::vector<std::uint32_t>& out)
+      : squared_limit_(squared_limit), out_(out) {}
   bool full() const override { return true; }
   void addPoint(double, size_t index) override { out_.push_back(static_cast<std::uint32_t>(index)); }
   double worstDist() const override { return squared_limit_; }
@@ -162,7 +163,8 @@ std::vector<std::uint32_t> NeighbourSearch::count_within(double radius) const {
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
                    std::uint32_t n = 0;
-                   for (std::size_t c = 0; c < ids.size(); ++c) n += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+                   for (std::size_t c = 0; c < ids.size(); ++c)
+                     n += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
                    counts[i] = n;
                  });
   return counts;
@@ -188,25 +190,25 @@ void NeighbourSearch::fill_lists(double radius, std::size_t first, std::size_t c
   for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double radius2 = radius * radius;
   std::atomic<bool> mismatch{false};
-  for_each_point(radius, first, count,
-                 [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
-                     const std::vector<double>& cy, const std::vector<double>& cz,
-                     std::vector<std::uint32_t>& scratch) {
-                   const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
-                   // Branch-free compaction into scratch (a member or not is a coin toss near the
-                   // boundary, which a branch predicts badly), then one copy into the list.
-                   std::size_t written = 0;
-                   for (std::size_t c = 0; c < ids.size(); ++c) {
-                     scratch[written] = ids[c];
-                     written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
-                   }
-                   const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
-                   if (written != capacity) {
-                     mismatch = true;
-                     return;
-                   }
-                   std::copy(scratch.begin(), scratch.begin() + written, indices + offsets[i - first]);
-                 });
+  for_each_point(
+      radius, first, count,
+      [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
+          const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>& scratch) {
+        const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
+        // Branch-free compaction into scratch (a member or not is a coin toss near the
+        // boundary, which a branch predicts badly), then one copy into the list.
+        std::size_t written = 0;
+        for (std::size_t c = 0; c < ids.size(); ++c) {
+          scratch[written] = ids[c];
+          written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+        }
+        const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
+        if (written != capacity) {
+          mismatch = true;
+          return;
+        }
+        std::copy(scratch.begin(), scratch.begin() + written, indices + offsets[i - first]);
+      });
   if (mismatch) {
     // The same exact test ran twice on the same data; a different count is a bug, not bad data.
     throw Error(ErrorCode::invalid_input, "internal error: neighbour search gave different counts on two runs");

@@ -39,9 +39,10 @@ class NeighbourSearch {
   // before the exact count, which costs about the sum itself.
   double estimate_pairs(double radius) const;
 
-  // The lists of points [first, first + count) within `radius`, each in ascending id order. `counts` is what count_within returned for the same radius; it sizes the
-  // arrays before any search runs.
-  CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts) const;
+  // The lists of points [first, first + count) within `radius`, each in ascending id order. `counts` is what
+  // count_within returned for the same radius; it sizes the arrays before any search runs.
+  CsrLists lists_within(double radius, std::size_t first, std::size_t count,
+                        const std::vector<std::uint32_t>& counts) const;
 
   // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
   // count + 1 entries and `indices` the sum of counts[first .. first + count).

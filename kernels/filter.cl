@@ -42,9 +42,8 @@ static pnf_dvec3 pnf_eval_F_lanes(uint s, pnf_vec3 o, __global const uint* indic
 #endif
 
 __kernel void pnf_filter_pass(__global const float* positions, __global const float* normals_in,
-                              __global float* normals_out, __global const ulong* offsets,
-                              __global const uint* indices, uint chunk_begin, uint chunk_count,
-                              float inv_two_sigma_f2, float inv_two_sigma_g2) {
+                              __global float* normals_out, __global const ulong* offsets, __global const uint* indices,
+                              uint chunk_begin, uint chunk_count, float inv_two_sigma_f2, float inv_two_sigma_g2) {
   uint local_index = get_global_id(0);
   if (local_index >= chunk_count) return;
   uint s = chunk_begin + local_index;

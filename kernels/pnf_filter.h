@@ -93,9 +93,9 @@ PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
 
 #if PNF_LANES == 1
 /* F(o + x_local) - o with its Jacobian, one neighbour at a time over indices[begin, end). */
-PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const pnf_index* indices,
-                            pnf_offset begin, pnf_offset end, PNF_GLOBAL const pnf_real* positions,
-                            PNF_GLOBAL const pnf_real* normals, pnf_coeffs c) {
+PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
+                            pnf_offset end, PNF_GLOBAL const pnf_real* positions, PNF_GLOBAL const pnf_real* normals,
+                            pnf_coeffs c) {
   pnf_sums acc = pnf_sums_zero();
   for (pnf_offset e = begin; e < end; ++e) {
     pnf_index j = indices[e];
@@ -107,9 +107,9 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const
 }
 
 /* One pass for point s: its new normal from its neighbour list indices[begin, end). */
-PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
-                                 pnf_offset end, PNF_GLOBAL const pnf_real* positions,
-                                 PNF_GLOBAL const pnf_real* normals, pnf_coeffs c) {
+PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin, pnf_offset end,
+                                 PNF_GLOBAL const pnf_real* positions, PNF_GLOBAL const pnf_real* normals,
+                                 pnf_coeffs c) {
   pnf_dvec3 x_local = pnf_dvec3_seed(pnf_make_vec3(0, 0, 0));
   pnf_dvec3 f = pnf_eval_F(x_local, pnf_load_vec3(positions, s), indices, begin, end, positions, normals, c);
   return pnf_update_normal(f, pnf_load_vec3(normals, s));

@@ -73,7 +73,8 @@ TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {
     FAIL() << "no error";
   } catch (const pnf::Error& e) {
     EXPECT_EQ(e.code(), pnf::ErrorCode::device);
-    EXPECT_NE(std::string(e.what()).find("even one point's neighbour list does not fit"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("even one point's neighbour list does not fit"), std::string::npos)
+        << e.what();
   }
 }
 

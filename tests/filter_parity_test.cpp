@@ -16,7 +16,7 @@ using namespace pnf::test;
 using pnf::PointCloud;
 using pnf::Vec3;
 
-constexpr double kMostPointsDeg = 0.01;    // SPEC, "Numerics"
+constexpr double kMostPointsDeg = 0.01;  // SPEC, "Numerics"
 constexpr double kMostPointsShare = 0.999;
 constexpr double kEveryPointDeg = 0.1;
 
@@ -41,8 +41,8 @@ void expect_parity(const PointCloud& cloud, const pnf::FilterParams& params, con
   EXPECT_GE(share, kMostPointsShare) << name << ": only " << within << " of " << angles.size() << " within "
                                      << kMostPointsDeg << " deg";
   EXPECT_LE(angles[worst], kEveryPointDeg)
-      << name << ": point " << worst << " differs by " << angles[worst] << " deg; opencl (" << device[worst][0]
-      << ", " << device[worst][1] << ", " << device[worst][2] << ") reference (" << reference[worst][0] << ", "
+      << name << ": point " << worst << " differs by " << angles[worst] << " deg; opencl (" << device[worst][0] << ", "
+      << device[worst][1] << ", " << device[worst][2] << ") reference (" << reference[worst][0] << ", "
       << reference[worst][1] << ", " << reference[worst][2] << ")";
   ::testing::Test::RecordProperty("max_deg", std::to_string(angles[worst]));
 }

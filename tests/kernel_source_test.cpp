@@ -16,8 +16,6 @@ TEST(KernelSource, IncludesAreInlinedOnceWithLineMarkers) {
   EXPECT_EQ(src.find("#line 1 \"pnf_common.h\""), src.rfind("#line 1 \"pnf_common.h\""));
 }
 
-TEST(KernelSource, UnknownFileIsAnError) {
-  EXPECT_THROW(pnf::detail::kernel_source("nope.cl"), pnf::Error);
-}
+TEST(KernelSource, UnknownFileIsAnError) { EXPECT_THROW(pnf::detail::kernel_source("nope.cl"), pnf::Error); }
 
 }  // namespace

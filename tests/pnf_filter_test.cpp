@@ -54,9 +54,8 @@ TEST(PnfFilter, JacobianMatchesCentralFiniteDifferences) {
     const double step = 1e-6;
     for (int s = 0; s < 400; s += 7) {
       pnf_vec3 origin = pnf_load_vec3(cloud.positions.data(), s);
-      pnf_dvec3 ad = pnf_eval_F(pnf_dvec3_seed(pnf_make_vec3(0, 0, 0)), origin, lists.indices.data(),
-                                lists.offsets[s], lists.offsets[s + 1], cloud.positions.data(),
-                                cloud.normals.data(), c);
+      pnf_dvec3 ad = pnf_eval_F(pnf_dvec3_seed(pnf_make_vec3(0, 0, 0)), origin, lists.indices.data(), lists.offsets[s],
+                                lists.offsets[s + 1], cloud.positions.data(), cloud.normals.data(), c);
       double scale = 0;
       for (int i = 0; i < 3; ++i)
         for (int k = 0; k < 3; ++k) scale = std::max(scale, std::fabs(partial(ad, i, k)));
@@ -70,7 +69,8 @@ TEST(PnfFilter, JacobianMatchesCentralFiniteDifferences) {
         pnf_dvec3 plus = at(+1), minus = at(-1);
         for (int i = 0; i < 3; ++i) {
           double fd = (value(plus, i) - value(minus, i)) / (2 * step);
-          EXPECT_NEAR(partial(ad, i, k), fd, 1e-6 * scale) << "seed " << seed << " point " << s << " dF" << i << "/dx" << k;
+          EXPECT_NEAR(partial(ad, i, k), fd, 1e-6 * scale)
+              << "seed " << seed << " point " << s << " dF" << i << "/dx" << k;
         }
       }
     }

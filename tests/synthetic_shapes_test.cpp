@@ -23,8 +23,13 @@ TEST(SyntheticShapes, NoiselessHouseLiesOnItsFacesWithOutwardNormals) {
     const double s = std::sqrt(0.5);
     pnf::Vec3 q = {p[0] - offset[0], p[1] - offset[1], p[2] - offset[2]};
     double d = dot(n, q);
-    double expected = n[2] == -1 ? 0 : n[0] == -1 ? 0 : n[0] == 1 ? 100 : n[1] == -1 ? 0 : n[1] == 1 ? 100
-                    : n[0] < 0 ? 60 * s : 110 * s + 50 * s;
+    double expected = n[2] == -1   ? 0
+                      : n[0] == -1 ? 0
+                      : n[0] == 1  ? 100
+                      : n[1] == -1 ? 0
+                      : n[1] == 1  ? 100
+                      : n[0] < 0   ? 60 * s
+                                   : 110 * s + 50 * s;
     EXPECT_NEAR(d, expected, 1e-9) << "sample " << i << " is off its face";
   }
 }

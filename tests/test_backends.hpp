@@ -39,18 +39,18 @@ inline NormalFilter* reference_filter() {
 }  // namespace pnf::test
 
 // In a test body: `NormalFilter* f = PNF_FILTER_OR_SKIP(backend);`
-#define PNF_FILTER_OR_SKIP(backend)                                                                  \
-  ([&]() -> ::pnf::NormalFilter* {                                                                   \
-    if ((backend) == ::pnf::Backend::reference) return ::pnf::test::reference_filter();             \
-    std::string why;                                                                                 \
-    ::pnf::NormalFilter* f = ::pnf::test::opencl_filter(why);                                        \
-    if (!f && std::getenv("PNF_DEVICE")) ADD_FAILURE() << "PNF_DEVICE is set but: " << why;          \
-    return f;                                                                                        \
+#define PNF_FILTER_OR_SKIP(backend)                                                         \
+  ([&]() -> ::pnf::NormalFilter* {                                                          \
+    if ((backend) == ::pnf::Backend::reference) return ::pnf::test::reference_filter();     \
+    std::string why;                                                                        \
+    ::pnf::NormalFilter* f = ::pnf::test::opencl_filter(why);                               \
+    if (!f && std::getenv("PNF_DEVICE")) ADD_FAILURE() << "PNF_DEVICE is set but: " << why; \
+    return f;                                                                               \
   }())
 
-#define PNF_SKIP_IF_NULL(filter)                                                        \
-  if (!(filter)) {                                                                      \
-    std::string why;                                                                    \
-    ::pnf::test::opencl_filter(why);                                                    \
+#define PNF_SKIP_IF_NULL(filter)                                                         \
+  if (!(filter)) {                                                                       \
+    std::string why;                                                                     \
+    ::pnf::test::opencl_filter(why);                                                     \
     GTEST_SKIP() << "no OpenCL device (set PNF_DEVICE to make this a failure): " << why; \
   }

@@ -37,8 +37,8 @@ inline double mean_angle_deg(const std::vector<Vec3>& a, const std::vector<Vec3>
 inline Vec3 jitter_normal(const Vec3& n, double degrees, std::mt19937& rng) {
   std::normal_distribution<double> gauss(0.0, std::tan(degrees * kPi / 180.0));
   Vec3 helper = std::fabs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  Vec3 t1 = normalized({n[1] * helper[2] - n[2] * helper[1], n[2] * helper[0] - n[0] * helper[2],
-                        n[0] * helper[1] - n[1] * helper[0]});
+  Vec3 t1 = normalized(
+      {n[1] * helper[2] - n[2] * helper[1], n[2] * helper[0] - n[0] * helper[2], n[0] * helper[1] - n[1] * helper[0]});
   Vec3 t2 = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]};
   double a = gauss(rng), b = gauss(rng);
   return normalized({n[0] + a * t1[0] + b * t2[0], n[1] + a * t1[1] + b * t2[1], n[2] + a * t1[2] + b * t2[2]});

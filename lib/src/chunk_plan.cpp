@@ -18,13 +18,14 @@ std::vector<Chunk> plan_chunks(const std::vector<std::uint32_t>& counts, std::si
   for (std::size_t i = 0; i < counts.size(); ++i) {
     std::size_t own = std::size_t(counts[i]) * sizeof(std::uint32_t);
     if (own > max_buffer_bytes) {
-      throw Error(ErrorCode::invalid_argument,
-                  "the neighbour list of point " + std::to_string(i) + " has " + std::to_string(counts[i]) +
-                      " entries (" + std::to_string(own) + " bytes), more than the device's largest buffer (" +
-                      std::to_string(max_buffer_bytes) + " bytes); lower sigma_f");
+      throw Error(ErrorCode::invalid_argument, "the neighbour list of point " + std::to_string(i) + " has " +
+                                                   std::to_string(counts[i]) + " entries (" + std::to_string(own) +
+                                                   " bytes), more than the device's largest buffer (" +
+                                                   std::to_string(max_buffer_bytes) + " bytes); lower sigma_f");
     }
     std::size_t grown = pairs + counts[i];
-    bool fits = csr_bytes(current.count + 1, grown) <= budget_bytes && grown * sizeof(std::uint32_t) <= max_buffer_bytes;
+    bool fits =
+        csr_bytes(current.count + 1, grown) <= budget_bytes && grown * sizeof(std::uint32_t) <= max_buffer_bytes;
     if (!fits && current.count > 0) {
       chunks.push_back(current);
       current = Chunk{i, 0};

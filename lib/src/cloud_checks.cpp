@@ -40,7 +40,8 @@ void check_cloud(const PointCloud& cloud) {
       fail("vertex " + std::to_string(i) + " has a zero-length normal");
     }
     if (!cloud.radii.empty() && !(std::isfinite(cloud.radii[i]) && cloud.radii[i] > 0)) {
-      fail("vertex " + std::to_string(i) + " has radius " + std::to_string(cloud.radii[i]) + "; must be finite and > 0");
+      fail("vertex " + std::to_string(i) + " has radius " + std::to_string(cloud.radii[i]) +
+           "; must be finite and > 0");
     }
   }
 }

@@ -5,9 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "pnf/error.hpp"
 #include <vector>
-
+#include "pnf/error.hpp"
 
 namespace pnf::detail {
 

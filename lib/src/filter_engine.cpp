@@ -17,7 +17,6 @@
 namespace pnf::detail {
 namespace {
 
-
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
@@ -78,7 +77,6 @@ double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, 
   }
   return estimate;
 }
-
 
 // Mean angle in degrees between two N by 3 arrays of unit vectors (atan2: exact near 0).
 double mean_angle_deg(const std::vector<double>& a, const std::vector<double>& b) {

@@ -44,8 +44,8 @@ class ReferenceBackend : public FilterBackend {
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
     for (std::int64_t k = 0; k < count; ++k) {
       auto s = static_cast<pnf_index>(first_ + k);
-      pnf_vec3 n = pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(),
-                                    current_.data(), c);
+      pnf_vec3 n =
+          pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(), current_.data(), c);
       next_[3 * std::size_t(s)] = n.x;
       next_[3 * std::size_t(s) + 1] = n.y;
       next_[3 * std::size_t(s) + 2] = n.z;
@@ -73,6 +73,8 @@ class ReferenceBackend : public FilterBackend {
 
 }  // namespace
 
-std::unique_ptr<FilterBackend> make_reference_backend(int threads) { return std::make_unique<ReferenceBackend>(threads); }
+std::unique_ptr<FilterBackend> make_reference_backend(int threads) {
+  return std::make_unique<ReferenceBackend>(threads);
+}
 
 }  // namespace pnf::detail

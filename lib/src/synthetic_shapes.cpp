@@ -35,22 +35,32 @@ std::vector<Face> house_faces() {
   const double eave = kWallHeight, ridge = kWallHeight + kRoofRise, half = kWidth / 2;
   auto all = [](double, double) { return true; };
   return {
-      {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, kWidth, kWidth, all},                   // floor, -z
-      {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, eave, kWidth, all},                     // wall x = 0, -x
-      {{kWidth, 0, 0}, {0, 1, 0}, {0, 0, 1}, kWidth, eave, all},                // wall x = w, +x
-      {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, kWidth, ridge,                          // gable y = 0, -y
+      {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, kWidth, kWidth, all},     // floor, -z
+      {{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, eave, kWidth, all},       // wall x = 0, -x
+      {{kWidth, 0, 0}, {0, 1, 0}, {0, 0, 1}, kWidth, eave, all},  // wall x = w, +x
+      {{0, 0, 0},
+       {1, 0, 0},
+       {0, 0, 1},
+       kWidth,
+       ridge,  // gable y = 0, -y
        [=](double x, double z) { return z <= ridge - std::fabs(x - half); }},
-      {{0, kWidth, 0}, {0, 0, 1}, {1, 0, 0}, ridge, kWidth,                     // gable y = w, +y
+      {{0, kWidth, 0},
+       {0, 0, 1},
+       {1, 0, 0},
+       ridge,
+       kWidth,  // gable y = w, +y
        [=](double z, double x) { return z <= ridge - std::fabs(x - half); }},
-      {{0, 0, eave}, {s, 0, s}, {0, 1, 0}, slope, kWidth, all},                 // roof, (-1, 0, 1)
-      {{half, 0, ridge}, {s, 0, -s}, {0, 1, 0}, slope, kWidth, all},            // roof, (1, 0, 1)
+      {{0, 0, eave}, {s, 0, s}, {0, 1, 0}, slope, kWidth, all},       // roof, (-1, 0, 1)
+      {{half, 0, ridge}, {s, 0, -s}, {0, 1, 0}, slope, kWidth, all},  // roof, (1, 0, 1)
   };
 }
 
 }  // namespace
 
 SyntheticCloud make_scanned_house(std::size_t points, const ScanNoise& noise) {
-  if (points < 100) throw Error(ErrorCode::invalid_argument, "make_scanned_house needs at least 100 points, not " + std::to_string(points));
+  if (points < 100)
+    throw Error(ErrorCode::invalid_argument,
+                "make_scanned_house needs at least 100 points, not " + std::to_string(points));
   if (!(noise.position >= 0) || !(noise.normal_degrees >= 0) || !std::isfinite(noise.position) ||
       !std::isfinite(noise.normal_degrees)) {
     throw Error(ErrorCode::invalid_argument, "scan noise must be finite and >= 0");

@@ -61,7 +61,8 @@ class CliErrorTest : public CliTest {
     EXPECT_EQ(r.exit_code, code) << r.describe();
     EXPECT_EQ(r.err.rfind("pnf: error: ", 0), 0u) << r.describe();
     EXPECT_EQ(count_lines(r.err), 1u) << "expected one error line\n" << r.describe();
-    for (const std::string& piece : pieces) EXPECT_TRUE(contains(r.err, piece)) << "no '" << piece << "' in\n" << r.describe();
+    for (const std::string& piece : pieces)
+      EXPECT_TRUE(contains(r.err, piece)) << "no '" << piece << "' in\n" << r.describe();
     EXPECT_EQ(folder_entries(work_), before) << "the failed run left or removed a file\n" << r.describe();
     std::size_t i = 0;
     for (const std::string& name : before) {
@@ -73,7 +74,8 @@ class CliErrorTest : public CliTest {
   }
 
   // `pnf filter IN OUT --backend reference` on a file holding `contents`.
-  void expect_filter_rejects(const std::string& name, const std::string& contents, const std::vector<std::string>& pieces) {
+  void expect_filter_rejects(const std::string& name, const std::string& contents,
+                             const std::vector<std::string>& pieces) {
     write_whole_file(path(name), contents);
     std::vector<std::string> all_pieces = {path(name)};
     all_pieces.insert(all_pieces.end(), pieces.begin(), pieces.end());
@@ -142,7 +144,8 @@ TEST_F(CliErrorTest, MalformedNumber) {
 }
 
 TEST_F(CliErrorTest, RowWithTooFewValues) {
-  expect_filter_rejects("few.ply", ascii_ply(kPositionsAndNormals, 4, rows_with(1, "1 0 0 0 0")), {"line 12", "'vertex'"});
+  expect_filter_rejects("few.ply", ascii_ply(kPositionsAndNormals, 4, rows_with(1, "1 0 0 0 0")),
+                        {"line 12", "'vertex'"});
 }
 
 TEST_F(CliErrorTest, MissingCoordinateProperty) {
@@ -243,7 +246,8 @@ TEST_F(CliErrorTest, DemoWithoutItsDevice) {
 
 TEST_F(CliErrorTest, UnknownOutputExtension) {
   const std::string in = write_cloud("in.ply", jittered_grid(5, 1.0, 0.2, 1));
-  expect_clean_failure({"filter", in, path("out.txt"), "--backend", "reference"}, kExitUsage, {path("out.txt"), ".txt"});
+  expect_clean_failure({"filter", in, path("out.txt"), "--backend", "reference"}, kExitUsage,
+                       {path("out.txt"), ".txt"});
 }
 
 TEST_F(CliErrorTest, BadParameterValues) {
@@ -268,21 +272,21 @@ TEST_F(CliErrorTest, OutputIsInputWithoutInPlace) {
 TEST_F(CliErrorTest, UnknownFlagsAndCommands) {
   const std::string in = write_cloud("in.ply", jittered_grid(5, 1.0, 0.2, 1));
   const std::set<std::string> before = folder_entries(work_);
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"filter", in, path("out.ply"), "--frobnicate"},
-           {"filter", in, path("out.ply"), "--units", "furlongs"},
-           {"filter", in, path("out.ply"), "--backend", "quantum"},
-           {"filter", in, path("out.ply"), "--memory-budget", "-5"},
-           {"filter", in, path("out.ply"), "--iterations", "four"},
-           {"filter", in},
-           {"estimate", in, path("out.ply"), "--orient", "sideways"},
-           {"info"},
-           {"info", in, "--frobnicate"},
-           {"devices", "--frobnicate"},
-           {"demo", "--frobnicate"},
-           {"--frobnicate"},
-           {"frobnicate"},
-           {}}) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"filter", in, path("out.ply"), "--frobnicate"},
+                                             {"filter", in, path("out.ply"), "--units", "furlongs"},
+                                             {"filter", in, path("out.ply"), "--backend", "quantum"},
+                                             {"filter", in, path("out.ply"), "--memory-budget", "-5"},
+                                             {"filter", in, path("out.ply"), "--iterations", "four"},
+                                             {"filter", in},
+                                             {"estimate", in, path("out.ply"), "--orient", "sideways"},
+                                             {"info"},
+                                             {"info", in, "--frobnicate"},
+                                             {"devices", "--frobnicate"},
+                                             {"demo", "--frobnicate"},
+                                             {"--frobnicate"},
+                                             {"frobnicate"},
+                                             {}}) {
     const CliRun r = run(args);
     std::string line;
     for (const std::string& a : args) line += " " + a;

@@ -113,7 +113,8 @@ TEST_F(CliTest, FilterOnArmadilloEqualsTheLibrary) {
   const FilterSummary& s = expected.summary;
   EXPECT_TRUE(contains(r.err, "38294 points")) << r.err;
   EXPECT_EQ(s.radius_source, RadiusSource::estimate);
-  EXPECT_TRUE(contains(r.err, "mean radius  " + format_g("%.6g", s.mean_radius) + " (" + to_string(s.radius_source) + ")"))
+  EXPECT_TRUE(
+      contains(r.err, "mean radius  " + format_g("%.6g", s.mean_radius) + " (" + to_string(s.radius_source) + ")"))
       << r.err;
   EXPECT_TRUE(contains(r.err, "sigma_f      " + format_g("%.6g", s.sigma_f) + " model units")) << r.err;
   EXPECT_TRUE(contains(r.err, "sigma_g " + format_g("%.6g", s.sigma_g))) << r.err;
@@ -196,8 +197,8 @@ TEST_F(CliTest, ProgressBarOnlyOnATerminal) {
   const std::string inner = shell_quote(PNF_CLI_PATH) + " filter " + shell_quote(in) + " " +
                             shell_quote(path("out.ply")) + " --backend reference --iterations 3";
   const std::string transcript = (root_ / "terminal.txt").string();
-  const std::string command = "script -q -e -c " + shell_quote(inner) + " /dev/null >" + shell_quote(transcript) +
-                              " 2>&1 </dev/null";
+  const std::string command =
+      "script -q -e -c " + shell_quote(inner) + " /dev/null >" + shell_quote(transcript) + " 2>&1 </dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_whole_file(transcript);
   const std::string shown = read_whole_file(transcript);
   EXPECT_TRUE(contains(shown, "pass 3/3")) << shown;
@@ -351,11 +352,13 @@ TEST_F(CliTest, DemoReportsAnImprovement) {
   const CliRun r = run({"demo", "--points", "2000", "--dir", folder, "--backend", backend.flag});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(improved +([0-9.]+)% of points; mean error ([0-9.]+)x smaller)")))
+  ASSERT_TRUE(
+      std::regex_search(r.out, m, std::regex(R"(improved +([0-9.]+)% of points; mean error ([0-9.]+)x smaller)")))
       << r.out;
   EXPECT_GT(std::stod(m[1]), 50.0) << r.out;
   EXPECT_GT(std::stod(m[2]), 1.0) << r.out;
-  EXPECT_EQ(read_point_file(folder + "/house_noisy.ply").size(), read_point_file(folder + "/house_filtered.ply").size());
+  EXPECT_EQ(read_point_file(folder + "/house_noisy.ply").size(),
+            read_point_file(folder + "/house_filtered.ply").size());
 }
 
 TEST_F(CliTest, HelpForEachCommand) {
@@ -366,8 +369,8 @@ TEST_F(CliTest, HelpForEachCommand) {
   }
   const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
       {"filter",
-       {"IN", "OUT", "--sigma-f", "--sigma-g", "--iterations", "--units", "--radius", "--device", "--backend", "--ascii",
-        "--quiet", "--in-place"}},
+       {"IN", "OUT", "--sigma-f", "--sigma-g", "--iterations", "--units", "--radius", "--device", "--backend",
+        "--ascii", "--quiet", "--in-place"}},
       {"estimate", {"IN", "OUT", "--k", "--orient", "--viewpoint", "--in-place"}},
       {"info", {"IN"}},
       {"devices", {"--device"}},

@@ -61,9 +61,13 @@ inline std::set<std::string> folder_entries(const std::filesystem::path& folder)
   return names;
 }
 
-inline bool contains(const std::string& text, const std::string& piece) { return text.find(piece) != std::string::npos; }
+inline bool contains(const std::string& text, const std::string& piece) {
+  return text.find(piece) != std::string::npos;
+}
 
-inline std::size_t count_lines(const std::string& text) { return std::size_t(std::count(text.begin(), text.end(), '\n')); }
+inline std::size_t count_lines(const std::string& text) {
+  return std::size_t(std::count(text.begin(), text.end(), '\n'));
+}
 
 // A test that runs the tool. Each test gets its own folder: `work` for inputs and outputs (so
 // that a listing of it shows any file a failed run left behind) and, beside it, the captured

@@ -56,8 +56,7 @@ Vec3 normalised(const Vec3& v) {
 // Angle in degrees between two unit vectors, ignoring their sign (the PCA error alone). atan2 of
 // |a × b| and |a · b| rather than acos, which cannot resolve angles below ~1e-6° near 1.
 double line_angle_degrees(const Vec3& a, const Vec3& b) {
-  const Vec3 cross = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                      a[0] * b[1] - a[1] * b[0]};
+  const Vec3 cross = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   return std::atan2(std::sqrt(dot(cross, cross)), std::abs(dot(a, b))) * kDegreesPerRadian;
 }
 
@@ -67,8 +66,8 @@ struct Sample {
 };
 
 void add_point(Sample& sample, const Vec3& on_surface, const Vec3& normal, double noise) {
-  sample.positions.push_back({on_surface[0] + noise * normal[0], on_surface[1] + noise * normal[1],
-                              on_surface[2] + noise * normal[2]});
+  sample.positions.push_back(
+      {on_surface[0] + noise * normal[0], on_surface[1] + noise * normal[1], on_surface[2] + noise * normal[2]});
   sample.true_normals.push_back(normal);
 }
 
@@ -88,17 +87,14 @@ Sample noisy_plane(int count, unsigned seed) {
 }
 
 // Uniform points on the sphere of radius `radius` about `centre`, with radial Gaussian noise.
-Sample noisy_sphere(int count, unsigned seed, const Vec3& centre = {0.0, 0.0, 0.0},
-                    double radius = 1.0) {
+Sample noisy_sphere(int count, unsigned seed, const Vec3& centre = {0.0, 0.0, 0.0}, double radius = 1.0) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gaussian(0.0, 1.0);
   std::normal_distribution<double> noise(0.0, kNoise * radius);
   Sample sample;
   for (int i = 0; i < count; ++i) {
     const Vec3 normal = normalised({gaussian(rng), gaussian(rng), gaussian(rng)});
-    add_point(sample,
-              {centre[0] + radius * normal[0], centre[1] + radius * normal[1],
-               centre[2] + radius * normal[2]},
+    add_point(sample, {centre[0] + radius * normal[0], centre[1] + radius * normal[1], centre[2] + radius * normal[2]},
               normal, noise(rng));
   }
   return sample;
@@ -142,8 +138,7 @@ Sample noisy_torus(int count, unsigned seed) {
     if (unit(rng) * (kRing + kTube) > kRing + kTube * std::cos(v)) continue;
     const Vec3 normal = {std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v)};
     const double ring = kRing + kTube * std::cos(v);
-    add_point(sample, {ring * std::cos(u), ring * std::sin(u), kTube * std::sin(v)}, normal,
-              noise(rng));
+    add_point(sample, {ring * std::cos(u), ring * std::sin(u), kTube * std::sin(v)}, normal, noise(rng));
   }
   return sample;
 }
@@ -207,12 +202,10 @@ void expect_error(const std::function<void()>& call, ErrorCode code, const Code&
 
 TEST(EstimateNormals, NoisyPlaneNormalsAreWithinAFewDegrees) {
   const Sample plane = noisy_plane(2000, 1);
-  const std::vector<Vec3> normals =
-      estimate_normals(plane.positions, params_with(Orientation::mst));
+  const std::vector<Vec3> normals = estimate_normals(plane.positions, params_with(Orientation::mst));
   expect_unit_normals(normals, plane.positions.size());
   const Agreement agreement = compare(normals, plane.true_normals);
-  EXPECT_LT(agreement.max_angle_degrees, kPlaneMaxAngleDegrees)
-      << "point " << agreement.worst_index;
+  EXPECT_LT(agreement.max_angle_degrees, kPlaneMaxAngleDegrees) << "point " << agreement.worst_index;
   EXPECT_LT(agreement.mean_angle_degrees, kMeanAngleDegrees);
   // The true normal has n_z > 0, which is where the mst seed rule points an open sheet.
   EXPECT_EQ(agreement.oriented_share, 1.0);
@@ -235,8 +228,7 @@ TEST(EstimateNormals, ViewpointAtSphereCentreTurnsAllNormalsInward) {
   const Sample sphere = noisy_sphere(2000, 3, {2.0, -1.0, 0.5});
   EstimateParams params = params_with(Orientation::viewpoint);
   params.viewpoint = {2.0, -1.0, 0.5};
-  const Agreement agreement =
-      compare(estimate_normals(sphere.positions, params), sphere.true_normals);
+  const Agreement agreement = compare(estimate_normals(sphere.positions, params), sphere.true_normals);
   EXPECT_EQ(agreement.oriented_share, 0.0);
 }
 
@@ -248,8 +240,7 @@ TEST(EstimateNormals, SphereOutwardAndMstAgreeWithTheTrueNormal) {
     expect_unit_normals(normals, sphere.positions.size());
     const Agreement agreement = compare(normals, sphere.true_normals);
     EXPECT_GE(agreement.oriented_share, kOrientedShare);
-    EXPECT_LT(agreement.max_angle_degrees, kSphereMaxAngleDegrees)
-        << "point " << agreement.worst_index;
+    EXPECT_LT(agreement.max_angle_degrees, kSphereMaxAngleDegrees) << "point " << agreement.worst_index;
     EXPECT_LT(agreement.mean_angle_degrees, kMeanAngleDegrees);
   }
 }
@@ -265,8 +256,7 @@ TEST(EstimateNormals, CubeWithMstIsOrientedOutward) {
 
 TEST(EstimateNormals, TorusWithMstIsOrientedOutwardWhereOutwardModeCannotBe) {
   const Sample torus = noisy_torus(6000, 6);
-  const std::vector<Vec3> normals =
-      estimate_normals(torus.positions, params_with(Orientation::mst));
+  const std::vector<Vec3> normals = estimate_normals(torus.positions, params_with(Orientation::mst));
   expect_unit_normals(normals, torus.positions.size());
   const Agreement agreement = compare(normals, torus.true_normals);
   EXPECT_GE(agreement.oriented_share, kOrientedShare);
@@ -274,8 +264,8 @@ TEST(EstimateNormals, TorusWithMstIsOrientedOutwardWhereOutwardModeCannotBe) {
 
   // The inner half of the torus faces the centroid, so the centroid rule gets it wrong: this is
   // what mst is for, and it shows the test can tell the two apart.
-  const Agreement outward = compare(
-      estimate_normals(torus.positions, params_with(Orientation::outward)), torus.true_normals);
+  const Agreement outward =
+      compare(estimate_normals(torus.positions, params_with(Orientation::outward)), torus.true_normals);
   EXPECT_LT(outward.oriented_share, 0.9);
 }
 
@@ -283,8 +273,7 @@ TEST(EstimateNormals, MstSeedsEveryConnectedComponent) {
   Sample two = noisy_sphere(2000, 7, {0.0, 0.0, 0.0});
   const Sample other = noisy_sphere(1500, 8, {5.0, 1.0, -3.0}, 0.8);
   two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
-  two.true_normals.insert(two.true_normals.end(), other.true_normals.begin(),
-                          other.true_normals.end());
+  two.true_normals.insert(two.true_normals.end(), other.true_normals.begin(), other.true_normals.end());
   const std::vector<Vec3> normals = estimate_normals(two.positions, params_with(Orientation::mst));
   EXPECT_GE(compare(normals, two.true_normals).oriented_share, kOrientedShare);
 }
@@ -300,10 +289,8 @@ TEST(EstimateNormals, DuplicatedPointsAreHandled) {
   std::vector<Vec3> doubled = sphere.positions;
   doubled.insert(doubled.end(), sphere.positions.begin(), sphere.positions.end());
 
-  const std::vector<Vec3> original =
-      estimate_normals(sphere.positions, params_with(Orientation::outward, kOriginalK));
-  const std::vector<Vec3> normals =
-      estimate_normals(doubled, params_with(Orientation::outward, 2 * kOriginalK + 1));
+  const std::vector<Vec3> original = estimate_normals(sphere.positions, params_with(Orientation::outward, kOriginalK));
+  const std::vector<Vec3> normals = estimate_normals(doubled, params_with(Orientation::outward, 2 * kOriginalK + 1));
   expect_unit_normals(normals, doubled.size());
   for (std::size_t i = 0; i < doubled.size(); ++i) {
     const Vec3& expected = original[i % original.size()];
@@ -314,8 +301,7 @@ TEST(EstimateNormals, DuplicatedPointsAreHandled) {
   // mst over a graph in which every point has a twin at distance 0.
   std::vector<Vec3> truth = sphere.true_normals;
   truth.insert(truth.end(), sphere.true_normals.begin(), sphere.true_normals.end());
-  EXPECT_GE(compare(estimate_normals(doubled, params_with(Orientation::mst)), truth).oriented_share,
-            kOrientedShare);
+  EXPECT_GE(compare(estimate_normals(doubled, params_with(Orientation::mst)), truth).oriented_share, kOrientedShare);
 }
 
 TEST(EstimateNormals, TranslationChangesNothingBeyondRounding) {
@@ -393,13 +379,11 @@ TEST(EstimateNormals, ValidationNamesTheBadFieldOrVertex) {
   params.k = 2;
   expect_error([&] { estimate_normals(square, params); }, ErrorCode::invalid_argument,
                std::vector<std::string>{"k", "2"});
-  expect_error([&] { params.validate(); }, ErrorCode::invalid_argument,
-               std::vector<std::string>{"k = 2"});
+  expect_error([&] { params.validate(); }, ErrorCode::invalid_argument, std::vector<std::string>{"k = 2"});
 
   params = EstimateParams{};
   params.viewpoint = {0.0, std::numeric_limits<double>::quiet_NaN(), 0.0};
-  expect_error([&] { params.validate(); }, ErrorCode::invalid_argument,
-               std::vector<std::string>{"viewpoint"});
+  expect_error([&] { params.validate(); }, ErrorCode::invalid_argument, std::vector<std::string>{"viewpoint"});
 
   std::vector<Vec3> bad = square;
   bad[7][1] = std::numeric_limits<double>::quiet_NaN();
@@ -417,8 +401,7 @@ TEST(EstimateNormals, ValidationNamesTheBadFieldOrVertex) {
 }
 
 TEST(EstimateNormals, OrientationNamesRoundTrip) {
-  for (const Orientation orientation :
-       {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
+  for (const Orientation orientation : {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
     EXPECT_EQ(parse_orientation(to_string(orientation)), orientation);
   }
   expect_error([] { parse_orientation("inward"); }, ErrorCode::invalid_argument,

@@ -123,8 +123,7 @@ inline std::string ply_text(const PlyModel& model, Encoding encoding) {
         text += '\n';
       }
     } else {
-      const std::vector<unsigned char> bytes =
-          element_bytes(element, encoding == Encoding::big_endian);
+      const std::vector<unsigned char> bytes = element_bytes(element, encoding == Encoding::big_endian);
       text.append(bytes.begin(), bytes.end());
     }
   }

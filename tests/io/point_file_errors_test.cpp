@@ -34,8 +34,8 @@ std::string floats(std::initializer_list<float> values) {
 
 // Writes `contents` to `name` in `dir`, reads it, and checks that the read fails with `code`
 // and a message containing the file name and every one of `parts`.
-void expect_read_error(const TempDir& dir, const std::string& name, const std::string& contents,
-                       ErrorCode code, const std::vector<std::string>& parts) {
+void expect_read_error(const TempDir& dir, const std::string& name, const std::string& contents, ErrorCode code,
+                       const std::vector<std::string>& parts) {
   test::write_file(dir / name, contents);
   const std::string path = (dir / name).string();
   try {
@@ -67,8 +67,7 @@ TEST(PointFileErrors, MissingOrUnreadableFileIsIo) {
     } catch (const Error& error) {
       EXPECT_EQ(error.code(), ErrorCode::io);
       EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
-      EXPECT_NE(std::string(error.what()).find("No such file or directory"), std::string::npos)
-          << error.what();
+      EXPECT_NE(std::string(error.what()).find("No such file or directory"), std::string::npos) << error.what();
     }
   }
   std::filesystem::create_directory(dir / "folder.ply");
@@ -99,11 +98,9 @@ TEST(PointFileErrors, MalformedHeader) {
   TempDir dir;
   expect_invalid_input(dir, "empty.ply", "", {"empty"});
   expect_invalid_input(dir, "magic.ply", "plyx\nformat ascii 1.0\n", {"not a PLY file"});
-  expect_invalid_input(dir, "no_end.ply",
-                       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n",
+  expect_invalid_input(dir, "no_end.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n",
                        {"no end_header"});
-  expect_invalid_input(dir, "type.ply",
-                       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float16 x\nend_header\n",
+  expect_invalid_input(dir, "type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float16 x\nend_header\n",
                        {"header line 4", "unknown property type 'float16'"});
   expect_invalid_input(dir, "list_type.ply",
                        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
@@ -119,8 +116,7 @@ TEST(PointFileErrors, MalformedHeader) {
                        {"header line 3", "unknown keyword 'elements'"});
   expect_invalid_input(dir, "no_format.ply", "ply\nend_header\n", {"before any format line"});
   // Binary data where the header should end: a line too long to be a header line.
-  expect_invalid_input(dir, "binary_junk.ply",
-                       "ply\nformat binary_little_endian 1.0\n" + std::string(70000, 'x'),
+  expect_invalid_input(dir, "binary_junk.ply", "ply\nformat binary_little_endian 1.0\n" + std::string(70000, 'x'),
                        {"header line 3", "no end_header"});
 }
 
@@ -145,8 +141,7 @@ TEST(PointFileErrors, BinaryCountsAreCheckedBeforeAllocating) {
   TempDir dir;
   // 2^40 vertices of 12 bytes: allocating them would need 12 TiB.
   const std::uint64_t huge = std::uint64_t{1} << 40;
-  expect_invalid_input(dir, "huge.ply",
-                       binary_header("binary_little_endian", huge) + floats({1, 2, 3}),
+  expect_invalid_input(dir, "huge.ply", binary_header("binary_little_endian", huge) + floats({1, 2, 3}),
                        {"element 'vertex'", "1099511627776 rows", "only 12 bytes remain"});
   // A list claiming far more items than the file holds.
   std::string face =
@@ -158,8 +153,7 @@ TEST(PointFileErrors, BinaryCountsAreCheckedBeforeAllocating) {
   face.append(reinterpret_cast<const char*>(one_face), sizeof one_face);
   const std::int32_t huge_count = 2000000000;
   face.append(reinterpret_cast<const char*>(&huge_count), sizeof huge_count);
-  expect_invalid_input(dir, "huge_list.ply", face,
-                       {"element 'face' row 1", "2000000000 items", "only 0 bytes remain"});
+  expect_invalid_input(dir, "huge_list.ply", face, {"element 'face' row 1", "2000000000 items", "only 0 bytes remain"});
   const std::int32_t negative_count = -1;
   face.resize(face.size() - 4);
   face.append(reinterpret_cast<const char*>(&negative_count), sizeof negative_count);
@@ -169,12 +163,10 @@ TEST(PointFileErrors, BinaryCountsAreCheckedBeforeAllocating) {
 TEST(PointFileErrors, TruncatedBinary) {
   TempDir dir;
   // Ends in the middle of vertex 1 (index from 0).
-  expect_invalid_input(dir, "mid_vertex.ply",
-                       binary_header("binary_big_endian", 3) + floats({1, 2, 3, 4}),
+  expect_invalid_input(dir, "mid_vertex.ply", binary_header("binary_big_endian", 3) + floats({1, 2, 3, 4}),
                        {"element 'vertex' row 1", "ends inside this row"});
   // Ends exactly after vertex 1.
-  expect_invalid_input(dir, "between.ply",
-                       binary_header("binary_little_endian", 3) + floats({1, 2, 3, 4, 5, 6}),
+  expect_invalid_input(dir, "between.ply", binary_header("binary_little_endian", 3) + floats({1, 2, 3, 4, 5, 6}),
                        {"element 'vertex' row 2", "ends before this row"});
   // Ends inside a list of row 0 of the second element.
   std::string face =
@@ -184,17 +176,15 @@ TEST(PointFileErrors, TruncatedBinary) {
       floats({1, 2, 3}) + std::string("\x03\0\0\0\0\0\0\0\0\0\0\0\0", 13);
   expect_invalid_input(dir, "mid_face.ply", face, {"element 'face' row 0", "ends inside"});
   // More data than the header declares.
-  expect_invalid_input(dir, "extra.ply",
-                       binary_header("binary_little_endian", 1) + floats({1, 2, 3, 4}),
+  expect_invalid_input(dir, "extra.ply", binary_header("binary_little_endian", 1) + floats({1, 2, 3, 4}),
                        {"4 bytes of data after the last element 'vertex'"});
 }
 
 TEST(PointFileErrors, MalformedAsciiBody) {
   TempDir dir;
   const std::string header = kXyzHeader;  // vertex rows start at line 11
-  expect_invalid_input(
-      dir, "token.ply", header + "1 2 3 0 0 1\n1 two 3 0 0 1\n",
-      {"line 12", "element 'vertex' row 1", "property 'y'", "'two'", "not a number"});
+  expect_invalid_input(dir, "token.ply", header + "1 2 3 0 0 1\n1 two 3 0 0 1\n",
+                       {"line 12", "element 'vertex' row 1", "property 'y'", "'two'", "not a number"});
   expect_invalid_input(dir, "short.ply", header + "1 2 3 0 0 1\n\n1 2 3 0 0\n",
                        {"line 13", "element 'vertex' row 1", "expected 6 values, found 5"});
   expect_invalid_input(dir, "long.ply", header + "1 2 3 0 0 1 7\n",
@@ -226,30 +216,25 @@ TEST(PointFileErrors, NonFiniteOrZeroVectors) {
                        {"line 13", "vertex 2", "zero-length"});
   // Binary: the vertex index, no line.
   const float inf = std::numeric_limits<float>::infinity();
-  expect_invalid_input(dir, "inf_binary.ply",
-                       binary_header("binary_little_endian", 2) + floats({1, 2, 3, inf, 5, 6}),
+  expect_invalid_input(dir, "inf_binary.ply", binary_header("binary_little_endian", 2) + floats({1, 2, 3, inf, 5, 6}),
                        {"vertex 1", "coordinate x is +infinity"});
   expect_invalid_input(dir, "nan.xyz", "1 2 3\n\n4 nan 6\n", {"line 3", "vertex 1", "NaN"});
-  expect_invalid_input(dir, "zero.pwn", "1 2 3 0 0 1\n4 5 6 0 0 0\n",
-                       {"line 2", "vertex 1", "zero-length"});
+  expect_invalid_input(dir, "zero.pwn", "1 2 3 0 0 1\n4 5 6 0 0 0\n", {"line 2", "vertex 1", "zero-length"});
 }
 
 TEST(PointFileErrors, MalformedTextFormats) {
   TempDir dir;
   expect_invalid_input(dir, "four.xyz", "# header\n1 2 3 4\n",
                        {"line 2", "expected 3 values (x y z) or 6 (x y z nx ny nz), found 4"});
-  expect_invalid_input(dir, "mixed.xyz", "1 2 3\n4 5 6 0 0 1\n",
-                       {"line 2", "expected 3 values (x y z), found 6"});
+  expect_invalid_input(dir, "mixed.xyz", "1 2 3\n4 5 6 0 0 1\n", {"line 2", "expected 3 values (x y z), found 6"});
   expect_invalid_input(dir, "short.xyzn", "1 2 3 0 0 1\n1 2 3\n",
                        {"line 2", "expected 6 values (x y z nx ny nz), found 3"});
-  expect_invalid_input(dir, "word.pwn", "1 2 3 0 0 1\n1 2 3 0 zero 1\n",
-                       {"line 2", "'zero' is not a number"});
+  expect_invalid_input(dir, "word.pwn", "1 2 3 0 0 1\n1 2 3 0 zero 1\n", {"line 2", "'zero' is not a number"});
 }
 
 TEST(PointFileErrors, SetNormalsChecksItsInput) {
   PointFile file(PointCloud{{{1, 2, 3}, {4, 5, 6}}, {}, {}});
-  const auto expect_argument_error = [&](const std::vector<Vec3>& normals,
-                                         const std::string& part) {
+  const auto expect_argument_error = [&](const std::vector<Vec3>& normals, const std::string& part) {
     try {
       file.set_normals(normals);
       ADD_FAILURE() << "expected an error containing " << part;
@@ -280,8 +265,7 @@ TEST(PointFileErrors, IntegerNormalsCannotBeReplaced) {
     ADD_FAILURE() << "expected an error";
   } catch (const Error& error) {
     EXPECT_EQ(error.code(), ErrorCode::invalid_input);
-    EXPECT_NE(std::string(error.what()).find("'nx' is declared 'char'"), std::string::npos)
-        << error.what();
+    EXPECT_NE(std::string(error.what()).find("'nx' is declared 'char'"), std::string::npos) << error.what();
   }
 }
 

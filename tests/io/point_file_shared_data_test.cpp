@@ -113,16 +113,13 @@ TEST_P(SharedData, RoundTripsInAsciiAndBinary) {
 
   // Binary to ascii and back reproduces the binary file byte for byte.
   write_point_file((dir / "ascii_from_binary.ply").string(), binary, WriteOptions{true});
-  write_point_file((dir / "binary_again.ply").string(),
-                   read_point_file((dir / "ascii_from_binary.ply").string()), WriteOptions{});
+  write_point_file((dir / "binary_again.ply").string(), read_point_file((dir / "ascii_from_binary.ply").string()),
+                   WriteOptions{});
   EXPECT_TRUE(test::read_file(dir / "binary_again.ply") == test::read_file(dir / "binary.ply"));
 }
 
-INSTANTIATE_TEST_SUITE_P(PointFile, SharedData,
-                         ::testing::Values("Armadillo.ply", "bunny_scans/bun000.ply"),
-                         [](const auto& info) {
-                           return std::string(info.index == 0 ? "Armadillo" : "bun000");
-                         });
+INSTANTIATE_TEST_SUITE_P(PointFile, SharedData, ::testing::Values("Armadillo.ply", "bunny_scans/bun000.ply"),
+                         [](const auto& info) { return std::string(info.index == 0 ? "Armadillo" : "bun000"); });
 
 }  // namespace
 }  // namespace pnf

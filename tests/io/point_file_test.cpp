@@ -33,8 +33,7 @@ using test::TempDir;
 // "1.50", "1e3") so that keeping the original text is visible.
 PlyModel rich_model() {
   PlyModel model;
-  model.comments = {"comment written by the pnf io tests", "obj_info num_cols 512",
-                    "comment  two  spaces "};
+  model.comments = {"comment written by the pnf io tests", "obj_info num_cols 512", "comment  two  spaces "};
   Element vertex;
   vertex.name = "vertex";
   vertex.columns = {{"float", "x", ""},
@@ -132,8 +131,7 @@ PlyModel rich_model() {
                   {"uint32", "flags", "int8"},
                   {"uchar", "red", ""},
                   {"short", "tags", "uint"}};
-  edge.rows = {{"0", "1", "2", "7", "4294967295", "255", "1", "-5"},
-               {"1", "2", "0", "0", "2", "-32768", "32767"}};
+  edge.rows = {{"0", "1", "2", "7", "4294967295", "255", "1", "-5"}, {"1", "2", "0", "0", "2", "-32768", "32767"}};
   Element material;
   material.name = "material";
   material.columns = {{"float", "shininess", ""}};
@@ -218,8 +216,7 @@ void expect_header_matches(const PlyHeader& header, const PlyModel& model) {
 void expect_same_values(const PointFile& actual, const PointFile& expected) {
   ASSERT_EQ(actual.header().elements.size(), expected.header().elements.size());
   for (std::size_t e = 0; e < expected.header().elements.size(); ++e) {
-    EXPECT_EQ(actual.element_values(e), expected.element_values(e))
-        << "element " << expected.header().elements[e].name;
+    EXPECT_EQ(actual.element_values(e), expected.element_values(e)) << "element " << expected.header().elements[e].name;
   }
 }
 
@@ -236,8 +233,7 @@ TEST_P(EveryEncoding, ReadsEveryScalarTypeAndList) {
   EXPECT_EQ(file.header().version, "1.0");
   expect_header_matches(file.header(), model);
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
-    EXPECT_EQ(file.element_values(e), test::element_bytes(model.elements[e]))
-        << "element " << model.elements[e].name;
+    EXPECT_EQ(file.element_values(e), test::element_bytes(model.elements[e])) << "element " << model.elements[e].name;
   }
 
   const Element& vertex = model.elements[0];
@@ -265,8 +261,7 @@ TEST_P(EveryEncoding, WritesEverythingBackExactly) {
   // Binary output is binary_little_endian: the same file for a little-endian source, every
   // value swapped back for a big-endian one, every token converted exactly for ascii.
   write_point_file((dir / "out_binary.ply").string(), file, WriteOptions{});
-  EXPECT_EQ(test::read_file(dir / "out_binary.ply"),
-            test::ply_text(model, Encoding::little_endian));
+  EXPECT_EQ(test::read_file(dir / "out_binary.ply"), test::ply_text(model, Encoding::little_endian));
 
   write_point_file((dir / "out_ascii.ply").string(), file, WriteOptions{true});
   if (GetParam() == Encoding::ascii) {
@@ -323,11 +318,8 @@ TEST_P(EveryEncoding, SetNormalsAddsFloatNormalsWhenAbsent) {
   model.comments = {"comment no normals yet"};
   Element vertex;
   vertex.name = "vertex";
-  vertex.columns = {{"double", "x", ""},
-                    {"double", "y", ""},
-                    {"double", "z", ""},
-                    {"uchar", "red", ""},
-                    {"int", "ids", "uchar"}};
+  vertex.columns = {
+      {"double", "x", ""}, {"double", "y", ""}, {"double", "z", ""}, {"uchar", "red", ""}, {"int", "ids", "uchar"}};
   vertex.rows = {{"1", "2", "3", "10", "2", "5", "6"}, {"4", "5", "6", "20", "0"}};
   Element face;
   face.name = "face";
@@ -380,15 +372,13 @@ TEST_P(EveryEncoding, PclNormalNamesAreNormals) {
   // Replaced in place under the same names.
   file.set_normals({{1, 0, 0}, {0, 0, 1}});
   PlyModel expected = model;
-  expected.elements[0].rows = {{"1", "2", "3", "1", "0", "0", "0.5"},
-                               {"4", "5", "6", "0", "0", "1", "0"}};
+  expected.elements[0].rows = {{"1", "2", "3", "1", "0", "0", "0.5"}, {"4", "5", "6", "0", "0", "1", "0"}};
   write_point_file((dir / "out.ply").string(), file, WriteOptions{true});
   EXPECT_EQ(test::read_file(dir / "out.ply"), test::ply_text(expected, Encoding::ascii));
 }
 
 INSTANTIATE_TEST_SUITE_P(PointFile, EveryEncoding,
-                         ::testing::Values(Encoding::ascii, Encoding::little_endian,
-                                           Encoding::big_endian),
+                         ::testing::Values(Encoding::ascii, Encoding::little_endian, Encoding::big_endian),
                          [](const auto& info) { return encoding_name(info.param); });
 
 TEST(PointFile, KeepsCommentsInTheirPlaces) {
@@ -460,8 +450,7 @@ TEST(PointFile, ReadsCrLfLineEndingsAndLooseSpacing) {
   const float xyz[3] = {1.5f, -2, 3};
   binary.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
   test::write_file(dir / "crlf_binary.ply", binary);
-  EXPECT_EQ(read_point_file((dir / "crlf_binary.ply").string()).cloud().positions[0],
-            (Vec3{1.5, -2, 3}));
+  EXPECT_EQ(read_point_file((dir / "crlf_binary.ply").string()).cloud().positions[0], (Vec3{1.5, -2, 3}));
 }
 
 TEST(PointFile, ExtensionIsCaseInsensitive) {
@@ -498,8 +487,7 @@ TEST(TextFormats, XyzWithoutNormals) {
   EXPECT_EQ(test::read_file(dir / "normals.xyz"),
             "1 2 3 0 0 1\n-0.0044999999999999997 5 6 0.10000000000000001 0.20000000000000001 "
             "0.29999999999999999\n");
-  EXPECT_EQ(read_point_file((dir / "normals.xyz").string()).cloud().normals[1],
-            (Vec3{0.1, 0.2, 0.3}));
+  EXPECT_EQ(read_point_file((dir / "normals.xyz").string()).cloud().normals[1], (Vec3{0.1, 0.2, 0.3}));
 }
 
 TEST(TextFormats, EveryTextFormatRoundTripsDoublesExactly) {
@@ -508,8 +496,7 @@ TEST(TextFormats, EveryTextFormatRoundTripsDoublesExactly) {
   std::uniform_real_distribution<double> coordinate(-1e3, 1e3);
   PointCloud cloud;
   for (int i = 0; i < 200; ++i) {
-    cloud.positions.push_back(
-        {coordinate(random), coordinate(random) * 1e-200, coordinate(random) * 1e200});
+    cloud.positions.push_back({coordinate(random), coordinate(random) * 1e-200, coordinate(random) * 1e200});
     cloud.normals.push_back({coordinate(random), coordinate(random), coordinate(random)});
   }
   for (const char* name : {"points.xyz", "points.xyzn", "points.pwn", "points.ply"}) {
@@ -593,8 +580,7 @@ TEST(AtomicWrite, FailureLeavesNothingBehind) {
   } catch (const Error& error) {
     EXPECT_EQ(error.code(), ErrorCode::io);
     EXPECT_NE(std::string(error.what()).find(missing), std::string::npos) << error.what();
-    EXPECT_NE(std::string(error.what()).find("No such file or directory"), std::string::npos)
-        << error.what();
+    EXPECT_NE(std::string(error.what()).find("No such file or directory"), std::string::npos) << error.what();
   }
 
   // The target is a folder: the rename fails after the data was written.
@@ -611,8 +597,8 @@ TEST(AtomicWrite, FailureLeavesNothingBehind) {
   // A folder without write permission (root ignores permissions, so only as another user).
   if (::geteuid() != 0) {
     std::filesystem::create_directory(dir / "locked");
-    std::filesystem::permissions(
-        dir / "locked", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    std::filesystem::permissions(dir / "locked",
+                                 std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
     const std::string locked = (dir / "locked" / "out.ply").string();
     try {
       write_point_file(locked, file);
@@ -620,8 +606,7 @@ TEST(AtomicWrite, FailureLeavesNothingBehind) {
     } catch (const Error& error) {
       EXPECT_EQ(error.code(), ErrorCode::io);
       EXPECT_NE(std::string(error.what()).find(locked), std::string::npos) << error.what();
-      EXPECT_NE(std::string(error.what()).find("Permission denied"), std::string::npos)
-          << error.what();
+      EXPECT_NE(std::string(error.what()).find("Permission denied"), std::string::npos) << error.what();
     }
     std::filesystem::permissions(dir / "locked", std::filesystem::perms::owner_all);
     EXPECT_TRUE(std::filesystem::is_empty(dir / "locked"));

@@ -10,8 +10,8 @@
 #include <set>
 #include <string>
 
-#include "png_header.hpp"
 #include "pnf/error.hpp"
+#include "png_header.hpp"
 
 namespace pnf {
 namespace {

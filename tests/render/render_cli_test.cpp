@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "png_header.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/render.hpp"
+#include "png_header.hpp"
 #include "test_clouds.hpp"
 
 #ifndef PNF_CLI_PATH
@@ -85,10 +85,13 @@ class RenderCliTest : public ::testing::Test {
 };
 
 TEST_F(RenderCliTest, RenderWritesAPictureOfTheAskedSize) {
-  for (const std::vector<std::string>& extra : std::vector<std::vector<std::string>>{
-           {}, {"--mode", "normals", "--view", "30,20"}, {"--mode", "error", "--truth", path("noisy.ply")},
-           {"--light", "1,1,1", "--radius-scale", "1.5", "--view", "-45.5, -10"}}) {
-    std::vector<std::string> args = {"render", path("sphere.ply"), path("out.png"), "--width", "200", "--height", "150"};
+  for (const std::vector<std::string>& extra :
+       std::vector<std::vector<std::string>>{{},
+                                             {"--mode", "normals", "--view", "30,20"},
+                                             {"--mode", "error", "--truth", path("noisy.ply")},
+                                             {"--light", "1,1,1", "--radius-scale", "1.5", "--view", "-45.5, -10"}}) {
+    std::vector<std::string> args = {"render", path("sphere.ply"), path("out.png"), "--width", "200", "--height",
+                                     "150"};
     args.insert(args.end(), extra.begin(), extra.end());
     ASSERT_EQ(run(args), 0) << err_;
     const render_test::PngHeader header = render_test::read_png_header(path("out.png"));
@@ -103,9 +106,8 @@ TEST_F(RenderCliTest, RenderWritesAPictureOfTheAskedSize) {
 }
 
 TEST_F(RenderCliTest, CompareLaysOutPanelsSideBySide) {
-  ASSERT_EQ(run({"compare", path("noisy.ply"), path("sphere.ply"), path("cmp.png"), "--width", "200", "--height",
-                 "150"}),
-            0)
+  ASSERT_EQ(
+      run({"compare", path("noisy.ply"), path("sphere.ply"), path("cmp.png"), "--width", "200", "--height", "150"}), 0)
       << err_;
   EXPECT_EQ(render_test::read_png_header(path("cmp.png")).width, 400u);
   ASSERT_EQ(run({"compare", path("noisy.ply"), path("sphere.ply"), path("cmp3.png"), "--width", "200", "--height",

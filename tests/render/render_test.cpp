@@ -61,7 +61,9 @@ PointCloud box_surface(double sx, double sy, double sz, double h, const Vec3& of
   return c;
 }
 
-const unsigned char* pixel(const Image& image, int x, int y) { return &image.rgb[3 * (std::size_t(y) * image.width + x)]; }
+const unsigned char* pixel(const Image& image, int x, int y) {
+  return &image.rgb[3 * (std::size_t(y) * image.width + x)];
+}
 bool is_background(const Image& image, int x, int y) {
   const unsigned char* p = pixel(image, x, y);
   return p[0] == kWhite && p[1] == kWhite && p[2] == kWhite;
@@ -246,8 +248,7 @@ TEST(RenderPoints, FramesTheBoxWithoutClippingAtAnyView) {
       EXPECT_LT(fg.y1, image.height - 1) << where;
       // The projected box (for a box, its silhouette) fills the image up to the 5% margins in
       // its tighter direction: 90%, less a little for the surfel radius the frame adds.
-      const double fill =
-          std::max(double(fg.x1 - fg.x0 + 1) / image.width, double(fg.y1 - fg.y0 + 1) / image.height);
+      const double fill = std::max(double(fg.x1 - fg.x0 + 1) / image.width, double(fg.y1 - fg.y0 + 1) / image.height);
       EXPECT_GT(fill, 0.85) << where;
       EXPECT_LT(fill, 0.91) << where;
       // Centred, to a pixel or two.
@@ -368,12 +369,11 @@ TEST(RenderPoints, BadArgumentsAreNamed) {
   expect_error(with([](RenderOptions& o) { o.threads = -1; }), arg, "threads");
   expect_error(with([](RenderOptions& o) { o.frame = BoundingBox{{1, 0, 0}, {0, 1, 1}}; }), arg, "frame");
   expect_error(with([](RenderOptions& o) { o.mode = RenderMode::error; }), arg, "reference normals");
-  expect_error(
-      with([](RenderOptions& o) {
-        o.mode = RenderMode::error;
-        o.width = 90;
-      }),
-      arg, "colour bar");
+  expect_error(with([](RenderOptions& o) {
+                 o.mode = RenderMode::error;
+                 o.width = 90;
+               }),
+               arg, "colour bar");
 
   RenderOptions error_mode;
   error_mode.mode = RenderMode::error;

@@ -14,12 +14,12 @@ namespace pnf::cli {
 // Exit codes, documented in the README and in `pnf --help`.
 enum ExitCode {
   kOk = 0,
-  kInternal = 1,  // a bug: an unexpected exception
-  kUsage = 2,     // bad command line or parameter value
-  kInput = 3,     // the input file is missing, unreadable or malformed, or its data is unusable
-  kDevice = 4,    // no OpenCL platform or device, kernel build or run failure
-  kOutput = 5,    // the output could not be written (nothing is left behind)
-  kCancelled = 6, // interrupted
+  kInternal = 1,   // a bug: an unexpected exception
+  kUsage = 2,      // bad command line or parameter value
+  kInput = 3,      // the input file is missing, unreadable or malformed, or its data is unusable
+  kDevice = 4,     // no OpenCL platform or device, kernel build or run failure
+  kOutput = 5,     // the output could not be written (nothing is left behind)
+  kCancelled = 6,  // interrupted
 };
 
 // Where a pnf::Error happened, for the exit code of io errors (reading vs writing).

@@ -21,8 +21,8 @@ struct DemoFlags {
 
 double angle_deg(const Vec3& a, const Vec3& b) {
   Vec3 c = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) *
-         180 / 3.14159265358979323846;
+  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * 180 /
+         3.14159265358979323846;
 }
 
 struct ErrorStats {
@@ -62,7 +62,8 @@ int run_demo(const DemoFlags& flags) {
     ErrorStats after = error_stats(result.normals, house.true_normals);
     std::size_t better = 0;
     for (std::size_t i = 0; i < house.cloud.size(); ++i) {
-      better += angle_deg(result.normals[i], house.true_normals[i]) < angle_deg(house.cloud.normals[i], house.true_normals[i]);
+      better += angle_deg(result.normals[i], house.true_normals[i]) <
+                angle_deg(house.cloud.normals[i], house.true_normals[i]);
     }
     std::printf("pnf demo: a synthetic scanned house, %zu points, spacing %.3g, sharp 90 and 135 degree edges\n",
                 house.cloud.size(), house.spacing);
@@ -75,10 +76,11 @@ int run_demo(const DemoFlags& flags) {
     for (double t : s.pass_seconds) std::printf(" %.3f", t);
     std::printf(" s\n");
     std::printf("  error to the true normals (degrees)   mean   median   90th pct\n");
-    std::printf("    input                             %6.2f   %6.2f   %6.2f\n", before.mean, before.median, before.p90);
+    std::printf("    input                             %6.2f   %6.2f   %6.2f\n", before.mean, before.median,
+                before.p90);
     std::printf("    filtered                          %6.2f   %6.2f   %6.2f\n", after.mean, after.median, after.p90);
-    std::printf("  improved     %.1f%% of points; mean error %.1fx smaller\n", 100.0 * double(better) / double(house.cloud.size()),
-                before.mean / after.mean);
+    std::printf("  improved     %.1f%% of points; mean error %.1fx smaller\n",
+                100.0 * double(better) / double(house.cloud.size()), before.mean / after.mean);
     std::printf("  wrote        %s and %s\n", noisy.c_str(), filtered.c_str());
     return int(kOk);
   });
@@ -90,10 +92,13 @@ Command add_demo_command(CLI::App& parent) {
   auto flags = std::make_shared<DemoFlags>();
   CLI::App* app = parent.add_subcommand(
       "demo", "Make a noisy synthetic scan with sharp edges, filter it, and report the improvement");
-  app->add_option("--points", flags->points, "about how many points (default 100000)")->check(CLI::Range(100, 100000000));
+  app->add_option("--points", flags->points, "about how many points (default 100000)")
+      ->check(CLI::Range(100, 100000000));
   app->add_option("--dir", flags->dir, "folder for house_noisy.ply and house_filtered.ply (default pnf-demo)");
-  app->add_option("--position-noise", flags->noise.position, "in sample spacings (default 0.1)")->check(CLI::NonNegativeNumber);
-  app->add_option("--normal-noise", flags->noise.normal_degrees, "in degrees (default 15)")->check(CLI::NonNegativeNumber);
+  app->add_option("--position-noise", flags->noise.position, "in sample spacings (default 0.1)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_option("--normal-noise", flags->noise.normal_degrees, "in degrees (default 15)")
+      ->check(CLI::NonNegativeNumber);
   app->add_option("--seed", flags->noise.seed, "random seed (default 1)");
   flags->device.add_to(*app);
   return {app, [flags] { return run_demo(*flags); }};

@@ -29,14 +29,18 @@ int run_info(const std::string& path) {
     PointFile file = read_point_file(path);
     const PlyHeader& header = file.header();
     std::printf("%s\n", path.c_str());
-    if (file.source_format() == PointFileFormat::ply) std::printf("  format       ply %s\n", encoding_name(header.encoding));
-    else std::printf("  format       text (x y z%s per line)\n", file.has_normals() ? " nx ny nz" : "");
+    if (file.source_format() == PointFileFormat::ply)
+      std::printf("  format       ply %s\n", encoding_name(header.encoding));
+    else
+      std::printf("  format       text (x y z%s per line)\n", file.has_normals() ? " nx ny nz" : "");
     for (const PlyComment& c : header.comments) std::printf("  %-12s %s\n", c.keyword.c_str(), c.text.c_str());
     for (const PlyElement& e : header.elements) {
       std::printf("  element      %s %zu:", e.name.c_str(), e.count);
       for (const PlyProperty& p : e.properties) {
-        if (p.is_list) std::printf(" %s(list %s %s)", p.name.c_str(), p.count_type_name.c_str(), p.type_name.c_str());
-        else std::printf(" %s(%s)", p.name.c_str(), p.type_name.c_str());
+        if (p.is_list)
+          std::printf(" %s(list %s %s)", p.name.c_str(), p.count_type_name.c_str(), p.type_name.c_str());
+        else
+          std::printf(" %s(%s)", p.name.c_str(), p.type_name.c_str());
       }
       std::printf("\n");
     }
@@ -62,9 +66,12 @@ int run_info(const std::string& path) {
       std::printf("  normals      none (run pnf estimate)\n");
     } else {
       std::size_t off = 0;
-      for (const Vec3& n : cloud.normals) off += std::fabs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) > kUnitTolerance;
-      if (off == 0) std::printf("  normals      yes, unit length\n");
-      else std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)\n", off);
+      for (const Vec3& n : cloud.normals)
+        off += std::fabs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) > kUnitTolerance;
+      if (off == 0)
+        std::printf("  normals      yes, unit length\n");
+      else
+        std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)\n", off);
     }
     return int(kOk);
   });
@@ -74,7 +81,8 @@ int run_info(const std::string& path) {
 
 Command add_info_command(CLI::App& parent) {
   auto path = std::make_shared<std::string>();
-  CLI::App* app = parent.add_subcommand("info", "Describe a point file: elements, properties, bounds, spacing, normals");
+  CLI::App* app =
+      parent.add_subcommand("info", "Describe a point file: elements, properties, bounds, spacing, normals");
   app->add_option("IN", *path, "point file (.ply, .xyz, .xyzn, .pwn)")->required();
   return {app, [path] { return run_info(*path); }};
 }

@@ -148,8 +148,9 @@ AngleStats angle_stats(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     const Vec3& p = a[i];
     const Vec3& q = b[i];
     const Vec3 c = {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
-    const double angle = std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
-                                    p[0] * q[0] + p[1] * q[1] + p[2] * q[2]) * 180 / kPi;
+    const double angle =
+        std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), p[0] * q[0] + p[1] * q[1] + p[2] * q[2]) * 180 /
+        kPi;
     stats.mean += angle;
     stats.max = std::max(stats.max, angle);
   }
@@ -166,7 +167,8 @@ Command add_render_command(CLI::App& parent) {
                   "shaded: grey, lit from the normals (default); normals: colour = n * 0.5 + 0.5; error: colour by "
                   "the angle to the normals of --truth, with a colour bar")
       ->check(CLI::IsMember({"shaded", "normals", "error"}));
-  app->add_option("--truth", flags->truth, "for --mode error: point file with the true normals, same points in the same order");
+  app->add_option("--truth", flags->truth,
+                  "for --mode error: point file with the true normals, same points in the same order");
   flags->render.add_to(*app, false);
   return {app, [flags] { return run_render(*flags); }};
 }

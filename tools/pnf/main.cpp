@@ -35,9 +35,9 @@ int main(int argc, char** argv) {
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input error, 4 device error, 5 output error, 6 cancelled.\n"
       "Environment: PNF_DEVICE picks the OpenCL device (cpu, gpu, accelerator, P:D, or part of a name).");
   app.require_subcommand(1);
-  std::vector<Command> commands = {add_filter_command(app), add_estimate_command(app), add_info_command(app),
-                                   add_devices_command(app), add_demo_command(app),
-                                   add_render_command(app), add_compare_command(app)};
+  std::vector<Command> commands = {add_filter_command(app),  add_estimate_command(app), add_info_command(app),
+                                   add_devices_command(app), add_demo_command(app),     add_render_command(app),
+                                   add_compare_command(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -81,7 +81,6 @@ struct EstimateParams {
 // Thread safety: reentrant; concurrent calls on different or the same (const) data are safe. The
 // per-point work runs on OpenMP threads (omp_get_max_threads()), and the result is bit-for-bit
 // the same for any number of threads.
-std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions,
-                                   const EstimateParams& params = EstimateParams{});
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{});
 
 }  // namespace pnf

@@ -12,7 +12,8 @@ namespace pnf {
 // distance to its 4 nearest other points. On a square grid of spacing h this is exactly h (the
 // 4 nearest are the edge neighbours); on a jittered grid it stays within a few percent of h.
 // Points whose 4 nearest are all duplicates of themselves are left out, and the median ignores
-// outliers. Returns 0 when N < 5 or when every point sits on top of 4 others. Thread safety: may be called concurrently.
+// outliers. Returns 0 when N < 5 or when every point sits on top of 4 others. Thread safety: may be called
+// concurrently.
 double estimate_mean_radius(const std::vector<Vec3>& positions);
 
 }  // namespace pnf

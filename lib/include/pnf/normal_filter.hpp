@@ -62,12 +62,12 @@ struct FilterSummary {
   std::size_t device_bytes = 0;     // device buffers held (0 for the reference backend)
   int allocation_retries = 0;       // times the device refused a buffer and chunks were halved
   std::string backend;
-  std::string device;                 // the device, with platform and driver
-  double neighbour_seconds = 0;       // counting and building the lists (all passes if chunked)
-  double upload_seconds = 0;          // positions, normals and lists to the device
-  std::vector<double> pass_seconds;   // wall time of each pass
-  std::vector<double> kernel_seconds; // device time of each pass (OpenCL event profiling)
-  int passes_run = 0;                 // < iterations when the stop rule ended the run early
+  std::string device;                   // the device, with platform and driver
+  double neighbour_seconds = 0;         // counting and building the lists (all passes if chunked)
+  double upload_seconds = 0;            // positions, normals and lists to the device
+  std::vector<double> pass_seconds;     // wall time of each pass
+  std::vector<double> kernel_seconds;   // device time of each pass (OpenCL event profiling)
+  int passes_run = 0;                   // < iterations when the stop rule ended the run early
   std::vector<double> mean_change_deg;  // per pass, with the stop rule: mean angle to the previous pass
 };
 

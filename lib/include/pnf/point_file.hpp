@@ -126,8 +126,7 @@ class PointFile {
   std::unique_ptr<Impl> impl_;
 
   friend PointFile read_point_file(const std::string& path);
-  friend void write_point_file(const std::string& path, const PointFile& file,
-                               const WriteOptions& options);
+  friend void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options);
 };
 
 // Reads the point file at `path`; the format follows the extension (.ply, .xyz, .xyzn, .pwn,
@@ -144,7 +143,6 @@ PointFile read_point_file(const std::string& path);
 // `path`, so `path` is either replaced whole or left alone; on failure no temporary file
 // remains. Throws invalid_argument for an unknown extension or a text format that needs normals
 // the file lacks, and io (naming the path and the OS reason) when writing fails.
-void write_point_file(const std::string& path, const PointFile& file,
-                      const WriteOptions& options = {});
+void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options = {});
 
 }  // namespace pnf

@@ -111,8 +111,7 @@ struct RenderOptions {
 // invalid_input for a cloud without normals, mismatched sizes (naming both), a non-finite
 // coordinate or radius, a negative radius, or a zero or non-finite normal (naming the first bad
 // index).
-Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals,
-                    const RenderOptions& options);
+Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals, const RenderOptions& options);
 
 // The same without reference normals, for the shaded and normals modes.
 Image render_points(const PointCloud& cloud, const RenderOptions& options = {});

@@ -17,9 +17,9 @@ struct ScanNoise {
 };
 
 struct SyntheticCloud {
-  PointCloud cloud;               // noisy positions and noisy unit normals
-  std::vector<Vec3> true_normals; // N, the exact outward normal of each sample's face
-  double spacing = 0;             // sample spacing, model units
+  PointCloud cloud;                // noisy positions and noisy unit normals
+  std::vector<Vec3> true_normals;  // N, the exact outward normal of each sample's face
+  double spacing = 0;              // sample spacing, model units
 };
 
 // A closed house shape, 100 units wide: a 100 x 100 x 60 box under a 45-degree gable roof

@@ -16,8 +16,8 @@
 #endif
 
 #include "orient_normals.hpp"
-#include "spatial_order.hpp"
 #include "pnf/error.hpp"
+#include "spatial_order.hpp"
 
 namespace pnf {
 
@@ -44,8 +44,8 @@ std::string format_vec3(const Vec3& v) {
 
 void check_positions(const std::vector<Vec3>& positions) {
   if (positions.size() < 3) {
-    throw Error(ErrorCode::invalid_input, "estimate_normals: need at least 3 points, got " +
-                                              std::to_string(positions.size()));
+    throw Error(ErrorCode::invalid_input,
+                "estimate_normals: need at least 3 points, got " + std::to_string(positions.size()));
   }
   if (positions.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
     throw Error(ErrorCode::invalid_input,
@@ -55,8 +55,8 @@ void check_positions(const std::vector<Vec3>& positions) {
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const Vec3& p = positions[i];
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      throw Error(ErrorCode::invalid_input, "estimate_normals: vertex " + std::to_string(i) +
-                                                " has a non-finite coordinate " + format_vec3(p));
+      throw Error(ErrorCode::invalid_input,
+                  "estimate_normals: vertex " + std::to_string(i) + " has a non-finite coordinate " + format_vec3(p));
     }
   }
 }
@@ -64,9 +64,7 @@ void check_positions(const std::vector<Vec3>& positions) {
 struct Box {
   Vec3 low;
   Vec3 high;
-  Vec3 centre() const {
-    return {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]), 0.5 * (low[2] + high[2])};
-  }
+  Vec3 centre() const { return {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]), 0.5 * (low[2] + high[2])}; }
 };
 
 Box bounding_box(const std::vector<Vec3>& positions) {
@@ -83,8 +81,7 @@ Box bounding_box(const std::vector<Vec3>& positions) {
 // The k nearest other points of every point, by an exact kd-tree search. Coordinates are taken
 // relative to `centre` (the bounding-box centre) so that a translated cloud gives the same
 // neighbours, up to rounding at the scale of the cloud rather than of its offset.
-detail::NeighbourTable find_neighbours(const std::vector<Vec3>& positions, const Vec3& centre,
-                                       int k) {
+detail::NeighbourTable find_neighbours(const std::vector<Vec3>& positions, const Vec3& centre, int k) {
   const std::size_t count = positions.size();
   std::vector<double> centred(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
@@ -92,8 +89,7 @@ detail::NeighbourTable find_neighbours(const std::vector<Vec3>& positions, const
   }
 
   const flann::Matrix<double> points(centred.data(), count, 3);
-  flann::KDTreeSingleIndex<flann::L2<double>> index(points,
-                                                    flann::KDTreeSingleIndexParams(kLeafMaxSize));
+  flann::KDTreeSingleIndex<flann::L2<double>> index(points, flann::KDTreeSingleIndexParams(kLeafMaxSize));
   index.buildIndex();
 
   flann::SearchParams search;
@@ -145,8 +141,7 @@ detail::NeighbourTable find_neighbours(const std::vector<Vec3>& positions, const
 // The total-least-squares normal of point i and its neighbour row. Offsets are taken from p_i,
 // not from the origin, so that far-from-origin clouds lose no digits; the covariance is summed
 // about the centroid in a second pass for the same reason.
-Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable& table,
-                std::size_t point) {
+Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable& table, std::size_t point) {
   const Eigen::Vector3d origin(positions[point][0], positions[point][1], positions[point][2]);
   const int* row = table.row(point);
   const int fitted = table.k + 1;
@@ -190,12 +185,10 @@ const char* to_string(Orientation orientation) {
 }
 
 Orientation parse_orientation(const std::string& name) {
-  for (const Orientation candidate :
-       {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
+  for (const Orientation candidate : {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
     if (name == to_string(candidate)) return candidate;
   }
-  throw Error(ErrorCode::invalid_argument,
-              "orientation '" + name + "' is not one of viewpoint, outward, mst");
+  throw Error(ErrorCode::invalid_argument, "orientation '" + name + "' is not one of viewpoint, outward, mst");
 }
 
 void EstimateParams::validate() const {
@@ -203,26 +196,21 @@ void EstimateParams::validate() const {
     throw Error(ErrorCode::invalid_argument,
                 "EstimateParams.k = " + std::to_string(k) + " is out of range; need k >= 3");
   }
-  if (orientation != Orientation::viewpoint && orientation != Orientation::outward &&
-      orientation != Orientation::mst) {
+  if (orientation != Orientation::viewpoint && orientation != Orientation::outward && orientation != Orientation::mst) {
     throw Error(ErrorCode::invalid_argument,
                 "EstimateParams.orientation = " + std::to_string(static_cast<int>(orientation)) +
                     " is not a valid Orientation");
   }
-  if (!std::isfinite(viewpoint[0]) || !std::isfinite(viewpoint[1]) ||
-      !std::isfinite(viewpoint[2])) {
-    throw Error(ErrorCode::invalid_argument,
-                "EstimateParams.viewpoint = " + format_vec3(viewpoint) + " is not finite");
+  if (!std::isfinite(viewpoint[0]) || !std::isfinite(viewpoint[1]) || !std::isfinite(viewpoint[2])) {
+    throw Error(ErrorCode::invalid_argument, "EstimateParams.viewpoint = " + format_vec3(viewpoint) + " is not finite");
   }
 }
 
-std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions,
-                                   const EstimateParams& params) {
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params) {
   params.validate();
   check_positions(positions);
 
-  const int k = static_cast<int>(
-      std::min<std::size_t>(static_cast<std::size_t>(params.k), positions.size() - 1));
+  const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(params.k), positions.size() - 1));
   const Box box = bounding_box(positions);
   // Curve order puts spatial neighbours near each other in memory: the kd-tree queries, PCA
   // gathers and mst traversal run several times faster than in a scan's row order.
@@ -235,14 +223,11 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions,
   const auto count = static_cast<std::int64_t>(sorted.size());
 #pragma omp parallel for schedule(static)
   for (std::int64_t s = 0; s < count; ++s) {
-    sorted_normals[static_cast<std::size_t>(s)] =
-        fit_normal(sorted, neighbours, static_cast<std::size_t>(s));
+    sorted_normals[static_cast<std::size_t>(s)] = fit_normal(sorted, neighbours, static_cast<std::size_t>(s));
   }
 
   switch (params.orientation) {
-    case Orientation::viewpoint:
-      detail::orient_towards_viewpoint(sorted, params.viewpoint, sorted_normals);
-      break;
+    case Orientation::viewpoint: detail::orient_towards_viewpoint(sorted, params.viewpoint, sorted_normals); break;
     case Orientation::outward: detail::orient_outward(sorted, sorted_normals); break;
     case Orientation::mst: detail::orient_by_mst(sorted, neighbours, sorted_normals); break;
   }

@@ -58,8 +58,7 @@ bool row_contains(const NeighbourTable& neighbours, std::size_t point, int other
 // relation is mutual, so the copy with i > j is skipped in that case. Rows are processed in
 // parallel in two passes (count, then fill at a prefix-sum offset), so the list comes out in the
 // same order for any thread count.
-std::vector<Edge> weighted_edges(const NeighbourTable& neighbours,
-                                 const std::vector<Vec3>& normals) {
+std::vector<Edge> weighted_edges(const NeighbourTable& neighbours, const std::vector<Vec3>& normals) {
   const std::size_t count = neighbours.point_count;
   const auto rows = static_cast<std::int64_t>(count);
   const auto listed_here = [&](std::size_t i, int j) {
@@ -88,8 +87,8 @@ std::vector<Edge> weighted_edges(const NeighbourTable& neighbours,
       if (!listed_here(i, row[slot])) continue;
       const auto other = static_cast<std::size_t>(row[slot]);
       const double weight = 1.0 - std::abs(dot(normals[i], normals[other]));
-      edges[next++] = Edge{static_cast<float>(weight), static_cast<int>(std::min(i, other)),
-                           static_cast<int>(std::max(i, other))};
+      edges[next++] =
+          Edge{static_cast<float>(weight), static_cast<int>(std::min(i, other)), static_cast<int>(std::max(i, other))};
     }
   }
   return edges;
@@ -109,15 +108,14 @@ void sort_edges(std::vector<Edge>& edges) {
 #pragma omp parallel for schedule(static, 1)
   for (std::int64_t p = 0; p < static_cast<std::int64_t>(parts); ++p) {
     const auto part = static_cast<std::size_t>(p);
-    std::sort(begin + static_cast<std::ptrdiff_t>(bounds[part]),
-              begin + static_cast<std::ptrdiff_t>(bounds[part + 1]), lighter);
+    std::sort(begin + static_cast<std::ptrdiff_t>(bounds[part]), begin + static_cast<std::ptrdiff_t>(bounds[part + 1]),
+              lighter);
   }
   for (std::size_t width = 1; width < parts; width *= 2) {
     for (std::size_t p = 0; p + width < parts; p += 2 * width) {
-      std::inplace_merge(
-          begin + static_cast<std::ptrdiff_t>(bounds[p]),
-          begin + static_cast<std::ptrdiff_t>(bounds[p + width]),
-          begin + static_cast<std::ptrdiff_t>(bounds[std::min(p + 2 * width, parts)]), lighter);
+      std::inplace_merge(begin + static_cast<std::ptrdiff_t>(bounds[p]),
+                         begin + static_cast<std::ptrdiff_t>(bounds[p + width]),
+                         begin + static_cast<std::ptrdiff_t>(bounds[std::min(p + 2 * width, parts)]), lighter);
     }
   }
 }
@@ -181,8 +179,7 @@ Forest forest_adjacency(std::size_t count, const std::vector<Edge>& tree_edges) 
 
 }  // namespace
 
-void orient_towards_viewpoint(const std::vector<Vec3>& positions, const Vec3& viewpoint,
-                              std::vector<Vec3>& normals) {
+void orient_towards_viewpoint(const std::vector<Vec3>& positions, const Vec3& viewpoint, std::vector<Vec3>& normals) {
   flip_against(
       [&](std::int64_t i) {
         const Vec3& p = positions[static_cast<std::size_t>(i)];
@@ -207,8 +204,7 @@ void orient_outward(const std::vector<Vec3>& positions, std::vector<Vec3>& norma
       normals);
 }
 
-void orient_by_mst(const std::vector<Vec3>& positions, const NeighbourTable& neighbours,
-                   std::vector<Vec3>& normals) {
+void orient_by_mst(const std::vector<Vec3>& positions, const NeighbourTable& neighbours, std::vector<Vec3>& normals) {
   const std::size_t count = positions.size();
 
   // Kruskal: the lightest edges that join two different trees form the minimum spanning forest.

@@ -15,14 +15,11 @@ struct NeighbourTable {
   int k = 0;
   std::vector<int> indices;  // point_count * k point ids, each in [0, point_count)
 
-  const int* row(std::size_t point) const {
-    return indices.data() + point * static_cast<std::size_t>(k);
-  }
+  const int* row(std::size_t point) const { return indices.data() + point * static_cast<std::size_t>(k); }
 };
 
 // Flips normals[i] where normals[i] · (viewpoint − positions[i]) < 0. Shapes: N and N.
-void orient_towards_viewpoint(const std::vector<Vec3>& positions, const Vec3& viewpoint,
-                              std::vector<Vec3>& normals);
+void orient_towards_viewpoint(const std::vector<Vec3>& positions, const Vec3& viewpoint, std::vector<Vec3>& normals);
 
 // Flips normals[i] where normals[i] · (positions[i] − c) < 0, c the mean of positions.
 void orient_outward(const std::vector<Vec3>& positions, std::vector<Vec3>& normals);
@@ -34,7 +31,6 @@ void orient_outward(const std::vector<Vec3>& positions, std::vector<Vec3>& norma
 // (parallel sort, union-find) then a breadth-first traversal: O(N k log(N k)) time, about
 // 20 N k bytes. Deterministic for any thread count.
 // Preconditions: normals are unit length; neighbours.point_count == positions.size().
-void orient_by_mst(const std::vector<Vec3>& positions, const NeighbourTable& neighbours,
-                   std::vector<Vec3>& normals);
+void orient_by_mst(const std::vector<Vec3>& positions, const NeighbourTable& neighbours, std::vector<Vec3>& normals);
 
 }  // namespace pnf::detail

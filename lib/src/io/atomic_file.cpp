@@ -31,8 +31,7 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path) {
   int error_number = 0;
   for (int attempt = 0; attempt < kNameAttempts; ++attempt) {
     // Hidden, and named after the target, so that a file left by a crash is recognisable.
-    const std::string name = "." + target.filename().string() + ".pnf-tmp-" +
-                             std::to_string(::getpid()) + "-" +
+    const std::string name = "." + target.filename().string() + ".pnf-tmp-" + std::to_string(::getpid()) + "-" +
                              std::to_string(temporary_counter.fetch_add(1));
     temporary_path_ = (folder / name).string();
     // 0666 so that the final file gets the usual permissions after the umask.
@@ -42,8 +41,8 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path) {
     if (error_number != EEXIST) break;
   }
   if (descriptor_ < 0) {
-    throw Error(ErrorCode::io, "cannot write '" + path + "': cannot create a file in '" +
-                                   folder.string() + "': " + std::strerror(error_number));
+    throw Error(ErrorCode::io, "cannot write '" + path + "': cannot create a file in '" + folder.string() +
+                                   "': " + std::strerror(error_number));
   }
   buffer_.resize(kBufferSize);
 }
@@ -58,8 +57,7 @@ void AtomicFile::fail(const std::string& what, int error_number) {
   if (descriptor_ >= 0) ::close(descriptor_);
   descriptor_ = -1;
   ::unlink(temporary_path_.c_str());
-  throw Error(ErrorCode::io,
-              "cannot write '" + path_ + "': " + what + ": " + std::strerror(error_number));
+  throw Error(ErrorCode::io, "cannot write '" + path_ + "': " + what + ": " + std::strerror(error_number));
 }
 
 void AtomicFile::flush() {

@@ -17,8 +17,7 @@ namespace {
 constexpr std::size_t kBufferSize = std::size_t{1} << 20;
 
 [[noreturn]] void throw_io(const std::string& path, const char* what, int error_number) {
-  throw Error(ErrorCode::io,
-              "cannot " + std::string(what) + " '" + path + "': " + std::strerror(error_number));
+  throw Error(ErrorCode::io, "cannot " + std::string(what) + " '" + path + "': " + std::strerror(error_number));
 }
 
 }  // namespace

@@ -30,9 +30,7 @@ constexpr std::size_t kMaxHeaderLine = 64 * 1024;
 constexpr std::size_t kMaxBodyLine = std::size_t{1} << 30;
 
 // What may follow the last element: line ends or padding some writers add after the data.
-bool is_trailing_filler(unsigned char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0';
-}
+bool is_trailing_filler(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0'; }
 
 class PlyReader {
  public:
@@ -65,9 +63,7 @@ class PlyReader {
   }
 
  private:
-  [[noreturn]] void fail(const std::string& what) const {
-    throw Error(ErrorCode::invalid_input, path_ + ": " + what);
-  }
+  [[noreturn]] void fail(const std::string& what) const { throw Error(ErrorCode::invalid_input, path_ + ": " + what); }
 
   [[noreturn]] void fail_header(const std::string& what) const {
     fail("header line " + std::to_string(line_number_) + ": " + what);
@@ -87,13 +83,11 @@ class PlyReader {
       ++line_number_;
       if (status == ByteSource::LineStatus::end_of_file) {
         if (line_number_ == 1) fail("not a PLY file: the file is empty");
-        fail("the header has no end_header line (the file ends at line " +
-             std::to_string(line_number_ - 1) + ")");
+        fail("the header has no end_header line (the file ends at line " + std::to_string(line_number_ - 1) + ")");
       }
       if (status == ByteSource::LineStatus::too_long) {
         if (line_number_ == 1) fail("not a PLY file: the first line is not 'ply'");
-        fail_header("longer than " + std::to_string(kMaxHeaderLine) +
-                    " bytes; the header has no end_header line");
+        fail_header("longer than " + std::to_string(kMaxHeaderLine) + " bytes; the header has no end_header line");
       }
       split_tokens(line, tokens);
       if (line_number_ == 1) {
@@ -105,8 +99,7 @@ class PlyReader {
       if (tokens.empty()) continue;
       const std::string_view keyword = tokens[0];
       if (keyword == "comment" || keyword == "obj_info") {
-        header.comments.push_back(
-            {std::string(keyword), comment_text(line, keyword), declarations});
+        header.comments.push_back({std::string(keyword), comment_text(line, keyword), declarations});
       } else if (keyword == "format") {
         if (have_format) fail_header("a second format line");
         if (!header.elements.empty()) fail_header("the format line must come before elements");
@@ -163,8 +156,7 @@ class PlyReader {
     const auto result = std::from_chars(count.data(), count.data() + count.size(), value);
     if (result.ec != std::errc() || result.ptr != count.data() + count.size() ||
         value > static_cast<std::uint64_t>(SIZE_MAX)) {
-      fail_header("element '" + element.name + "' count '" + std::string(count) +
-                  "' is not a non-negative integer");
+      fail_header("element '" + element.name + "' count '" + std::string(count) + "' is not a non-negative integer");
     }
     element.count = static_cast<std::size_t>(value);
     for (const PlyElement& other : impl_->header.elements) {
@@ -222,8 +214,7 @@ class PlyReader {
     return got;
   }
 
-  [[noreturn]] void fail_row(const PlyElement& element, std::uint64_t row,
-                             const std::string& what) const {
+  [[noreturn]] void fail_row(const PlyElement& element, std::uint64_t row, const std::string& what) const {
     fail("element '" + element.name + "' row " + std::to_string(row) + ": " + what);
   }
 
@@ -238,12 +229,10 @@ class PlyReader {
     if (least_row > 0 && element.count > remaining / least_row) {
       const std::uint64_t row = remaining / least_row;
       fail_row(element, row,
-               std::string("the file ends ") +
-                   (layout.fixed() && remaining % least_row == 0 ? "before" : "inside") +
+               std::string("the file ends ") + (layout.fixed() && remaining % least_row == 0 ? "before" : "inside") +
                    " this row: the header declares " + std::to_string(element.count) + " rows of " +
-                   (layout.fixed() ? "" : "at least ") + std::to_string(least_row) +
-                   " bytes but only " + std::to_string(remaining) +
-                   " bytes remain (truncated file or wrong count)");
+                   (layout.fixed() ? "" : "at least ") + std::to_string(least_row) + " bytes but only " +
+                   std::to_string(remaining) + " bytes remain (truncated file or wrong count)");
     }
     if (layout.fixed()) {
       const std::size_t total = element.count * least_row;
@@ -260,8 +249,7 @@ class PlyReader {
     }
   }
 
-  static void swap_fixed_rows(const PlyElement& element, std::vector<unsigned char>& bytes,
-                              std::size_t row_size) {
+  static void swap_fixed_rows(const PlyElement& element, std::vector<unsigned char>& bytes, std::size_t row_size) {
     for (std::size_t row = 0; row < element.count; ++row) {
       unsigned char* at = bytes.data() + row * row_size;
       for (const PlyProperty& property : element.properties) {
@@ -315,8 +303,8 @@ class PlyReader {
       if (got == 0) return;
       for (std::size_t i = 0; i < got; ++i) {
         if (!is_trailing_filler(chunk[i])) {
-          fail(std::to_string(extra) + " bytes of data after the last element '" +
-               impl_->header.elements.back().name + "' (do the header's counts match the data?)");
+          fail(std::to_string(extra) + " bytes of data after the last element '" + impl_->header.elements.back().name +
+               "' (do the header's counts match the data?)");
         }
       }
     }
@@ -331,8 +319,7 @@ class PlyReader {
       if (status == ByteSource::LineStatus::end_of_file) return false;
       ++line_number_;
       if (status == ByteSource::LineStatus::too_long) {
-        fail("line " + std::to_string(line_number_) + ": longer than " +
-             std::to_string(kMaxBodyLine) + " bytes");
+        fail("line " + std::to_string(line_number_) + ": longer than " + std::to_string(kMaxBodyLine) + " bytes");
       }
       split_tokens(line_, tokens_);
       if (!tokens_.empty()) return true;
@@ -348,9 +335,8 @@ class PlyReader {
     if (element.properties.empty()) return;
     for (std::size_t row = 0; row < element.count; ++row) {
       if (!next_data_line()) {
-        fail("line " + std::to_string(line_number_) + ": the file ends after " +
-             std::to_string(row) + " of " + std::to_string(element.count) + " rows of element '" +
-             element.name + "'");
+        fail("line " + std::to_string(line_number_) + ": the file ends after " + std::to_string(row) + " of " +
+             std::to_string(element.count) + " rows of element '" + element.name + "'");
       }
       if (row_lines) row_lines->push_back(line_number_);
       parse_ascii_row(element, row, bytes);
@@ -362,10 +348,9 @@ class PlyReader {
     }
   }
 
-  [[noreturn]] void fail_ascii_row(const PlyElement& element, std::size_t row,
-                                   const std::string& what) const {
-    fail("line " + std::to_string(line_number_) + ", element '" + element.name + "' row " +
-         std::to_string(row) + ": " + what);
+  [[noreturn]] void fail_ascii_row(const PlyElement& element, std::size_t row, const std::string& what) const {
+    fail("line " + std::to_string(line_number_) + ", element '" + element.name + "' row " + std::to_string(row) + ": " +
+         what);
   }
 
   // The number of tokens the row needs, from its list counts; "at least" while a count is
@@ -386,14 +371,12 @@ class PlyReader {
     return std::to_string(needed);
   }
 
-  void parse_ascii_row(const PlyElement& element, std::size_t row,
-                       std::vector<unsigned char>& bytes) {
+  void parse_ascii_row(const PlyElement& element, std::size_t row, std::vector<unsigned char>& bytes) {
     std::size_t t = 0;
     std::string why;
     const auto wrong_count = [&]() {
       fail_ascii_row(element, row,
-                     "expected " + expected_tokens(element) + " values, found " +
-                         std::to_string(tokens_.size()));
+                     "expected " + expected_tokens(element) + " values, found " + std::to_string(tokens_.size()));
     };
     const auto parse = [&](const PlyProperty& property, PlyScalar type) {
       if (t >= tokens_.size()) wrong_count();
@@ -401,8 +384,8 @@ class PlyReader {
       bytes.resize(bytes.size() + size);
       if (!parse_token(type, tokens_[t], bytes.data() + bytes.size() - size, why)) {
         fail_ascii_row(element, row,
-                       "property '" + property.name + "': '" + std::string(tokens_[t]) + "' is " +
-                           why + " for " + scalar_name(type));
+                       "property '" + property.name + "': '" + std::string(tokens_[t]) + "' is " + why + " for " +
+                           scalar_name(type));
       }
       ++t;
     };
@@ -440,8 +423,6 @@ class PlyReader {
 
 }  // namespace
 
-std::unique_ptr<PointFile::Impl> read_ply(const std::string& path) {
-  return PlyReader(path).read();
-}
+std::unique_ptr<PointFile::Impl> read_ply(const std::string& path) { return PlyReader(path).read(); }
 
 }  // namespace pnf

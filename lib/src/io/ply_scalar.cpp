@@ -49,14 +49,12 @@ struct ScalarName {
 
 // The original PLY names first, so that scalar_name returns them; then the sized aliases.
 constexpr ScalarName kScalarNames[] = {
-    {"char", PlyScalar::int8},       {"uchar", PlyScalar::uint8},
-    {"short", PlyScalar::int16},     {"ushort", PlyScalar::uint16},
-    {"int", PlyScalar::int32},       {"uint", PlyScalar::uint32},
-    {"float", PlyScalar::float32},   {"double", PlyScalar::float64},
-    {"int8", PlyScalar::int8},       {"uint8", PlyScalar::uint8},
-    {"int16", PlyScalar::int16},     {"uint16", PlyScalar::uint16},
-    {"int32", PlyScalar::int32},     {"uint32", PlyScalar::uint32},
-    {"float32", PlyScalar::float32}, {"float64", PlyScalar::float64},
+    {"char", PlyScalar::int8},       {"uchar", PlyScalar::uint8},    {"short", PlyScalar::int16},
+    {"ushort", PlyScalar::uint16},   {"int", PlyScalar::int32},      {"uint", PlyScalar::uint32},
+    {"float", PlyScalar::float32},   {"double", PlyScalar::float64}, {"int8", PlyScalar::int8},
+    {"uint8", PlyScalar::uint8},     {"int16", PlyScalar::int16},    {"uint16", PlyScalar::uint16},
+    {"int32", PlyScalar::int32},     {"uint32", PlyScalar::uint32},  {"float32", PlyScalar::float32},
+    {"float64", PlyScalar::float64},
 };
 
 template <typename T>
@@ -128,8 +126,7 @@ void reverse_bytes(unsigned char* value, std::size_t size) {
 }
 
 double load_as_double(PlyScalar type, const unsigned char* bytes) {
-  return visit_scalar(
-      type, [bytes](auto value) { return static_cast<double>(load<decltype(value)>(bytes)); });
+  return visit_scalar(type, [bytes](auto value) { return static_cast<double>(load<decltype(value)>(bytes)); });
 }
 
 void store_real(PlyScalar type, double value, unsigned char* bytes) {

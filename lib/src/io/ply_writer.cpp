@@ -29,8 +29,7 @@ std::string header_text(const PlyHeader& header, bool ascii) {
   std::size_t next_comment = 0;
   // Comments go back where they stood: before the declaration they preceded.
   const auto put_comments = [&](std::size_t up_to) {
-    while (next_comment < header.comments.size() &&
-           header.comments[next_comment].position <= up_to) {
+    while (next_comment < header.comments.size() && header.comments[next_comment].position <= up_to) {
       const PlyComment& comment = header.comments[next_comment++];
       text += comment.keyword;
       if (!comment.text.empty()) text += ' ' + comment.text;
@@ -56,8 +55,7 @@ std::string header_text(const PlyHeader& header, bool ascii) {
   return text;
 }
 
-void write_formatted_rows(const PlyElement& element, const std::vector<unsigned char>& values,
-                          AtomicFile& out) {
+void write_formatted_rows(const PlyElement& element, const std::vector<unsigned char>& values, AtomicFile& out) {
   RowLayout layout(element.properties);
   std::string text;
   const unsigned char* row = values.data();

@@ -28,8 +28,8 @@ PointFileFormat format_from_extension(const std::string& path) {
   if (extension == ".xyz") return PointFileFormat::xyz;
   if (extension == ".xyzn") return PointFileFormat::xyzn;
   if (extension == ".pwn") return PointFileFormat::pwn;
-  throw Error(ErrorCode::invalid_argument, path + ": unknown point file extension '" + extension +
-                                               "' (expected .ply, .xyz, .xyzn or .pwn)");
+  throw Error(ErrorCode::invalid_argument,
+              path + ": unknown point file extension '" + extension + "' (expected .ply, .xyz, .xyzn or .pwn)");
 }
 
 PlyProperty real_property(const char* name, PlyScalar type) {
@@ -67,8 +67,7 @@ void add_normal_properties(PointFile::Impl& impl) {
   std::vector<unsigned char> values;
   values.reserve(old_values.size() + vertex.count * added);
   // Lay out rows with the old property list: the new properties are not in them yet.
-  const std::vector<PlyProperty> old_list(vertex.properties.begin(),
-                                          vertex.properties.begin() + old_properties);
+  const std::vector<PlyProperty> old_list(vertex.properties.begin(), vertex.properties.begin() + old_properties);
   RowLayout layout(old_list);
   const unsigned char* row = old_values.data();
   for (std::size_t r = 0; r < vertex.count; ++r) {
@@ -135,11 +134,9 @@ void rewrite_vertex_tokens(PointFile::Impl& impl) {
 }
 
 void check_normal(const Vec3& normal, std::size_t index, const char* where) {
-  const bool finite =
-      std::isfinite(normal[0]) && std::isfinite(normal[1]) && std::isfinite(normal[2]);
+  const bool finite = std::isfinite(normal[0]) && std::isfinite(normal[1]) && std::isfinite(normal[2]);
   if (!finite || (normal[0] == 0 && normal[1] == 0 && normal[2] == 0)) {
-    throw Error(ErrorCode::invalid_argument, std::string(where) + ": normal " +
-                                                 std::to_string(index) +
+    throw Error(ErrorCode::invalid_argument, std::string(where) + ": normal " + std::to_string(index) +
                                                  (finite ? " is zero-length" : " is not finite"));
   }
 }
@@ -152,13 +149,11 @@ PointFile::PointFile(const PointCloud& cloud) : impl_(std::make_unique<Impl>()) 
   constexpr const char* kWhere = "PointFile(PointCloud)";
   const std::size_t n = cloud.size();
   if (cloud.has_normals() && cloud.normals.size() != n) {
-    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
-                                                 std::to_string(cloud.normals.size()) +
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(cloud.normals.size()) +
                                                  " normals for " + std::to_string(n) + " points");
   }
   if (cloud.has_radii() && cloud.radii.size() != n) {
-    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
-                                                 std::to_string(cloud.radii.size()) +
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(cloud.radii.size()) +
                                                  " radii for " + std::to_string(n) + " points");
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -240,8 +235,7 @@ PointCloud PointFile::cloud() const {
   for (std::size_t i = 0; i < vertex.count; ++i) {
     const std::size_t row_size = layout.measure(row);
     cloud.positions[i] = {load(fields.x), load(fields.y), load(fields.z)};
-    if (fields.has_normals())
-      cloud.normals[i] = {load(fields.nx), load(fields.ny), load(fields.nz)};
+    if (fields.has_normals()) cloud.normals[i] = {load(fields.nx), load(fields.ny), load(fields.nz)};
     if (fields.radius != VertexFields::kNone) cloud.radii[i] = load(fields.radius);
     row += row_size;
   }
@@ -253,18 +247,16 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   Impl& impl = *impl_;
   const PlyElement& vertex = impl.header.elements[impl.vertex_element];
   if (normals.size() != vertex.count) {
-    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " +
-                                                 std::to_string(normals.size()) + " normals for " +
-                                                 std::to_string(vertex.count) + " vertices");
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(normals.size()) +
+                                                 " normals for " + std::to_string(vertex.count) + " vertices");
   }
   for (std::size_t i = 0; i < normals.size(); ++i) check_normal(normals[i], i, kWhere);
   if (impl.fields.has_normals()) {
     for (const std::size_t field : {impl.fields.nx, impl.fields.ny, impl.fields.nz}) {
       const PlyProperty& property = vertex.properties[field];
       if (is_integer(property.type)) {
-        throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" +
-                                                  property.name + "' is declared '" +
-                                                  property.type_name +
+        throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" + property.name +
+                                                  "' is declared '" + property.type_name +
                                                   "', an integer type that cannot hold normals");
       }
     }
@@ -278,8 +270,7 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   for (std::size_t i = 0; i < vertex.count; ++i) {
     const std::size_t row_size = layout.measure(row);
     for (int axis = 0; axis < 3; ++axis) {
-      store_real(properties[fields[axis]].type, normals[i][axis],
-                 row + layout.offset(fields[axis]));
+      store_real(properties[fields[axis]].type, normals[i][axis], row + layout.offset(fields[axis]));
     }
     row += row_size;
   }
@@ -288,8 +279,8 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
 
 const std::vector<unsigned char>& PointFile::element_values(std::size_t element) const {
   if (element >= impl_->values.size()) {
-    throw Error(ErrorCode::invalid_argument, "element_values: element " + std::to_string(element) +
-                                                 " of " + std::to_string(impl_->values.size()));
+    throw Error(ErrorCode::invalid_argument,
+                "element_values: element " + std::to_string(element) + " of " + std::to_string(impl_->values.size()));
   }
   return impl_->values[element];
 }

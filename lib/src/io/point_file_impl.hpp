@@ -43,7 +43,6 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path);
 // Checks that every position and normal is finite and every normal non-zero. `row_lines`
 // gives, for an ascii source, the file line of each vertex row (empty otherwise) so that the
 // message can name it. Throws invalid_input naming `path`, the vertex index and the line.
-void check_vertices(const PointFile::Impl& impl, const std::string& path,
-                    const std::vector<std::size_t>& row_lines);
+void check_vertices(const PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines);
 
 }  // namespace pnf

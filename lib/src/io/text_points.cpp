@@ -72,8 +72,7 @@ std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, Point
       if (is_count_line(tokens)) continue;
       values_per_line = format == PointFileFormat::xyz ? tokens.size() : 6;
       if (format == PointFileFormat::xyz && values_per_line != 3 && values_per_line != 6) {
-        fail(line_number, "expected 3 values (x y z) or 6 (x y z nx ny nz), found " +
-                              std::to_string(tokens.size()));
+        fail(line_number, "expected 3 values (x y z) or 6 (x y z nx ny nz), found " + std::to_string(tokens.size()));
       }
       impl = make_impl(format, values_per_line == 6);
     }
@@ -85,8 +84,7 @@ std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, Point
     std::vector<unsigned char>& bytes = impl->values[0];
     for (const std::string_view token : tokens) {
       bytes.resize(bytes.size() + sizeof(double));
-      if (!parse_token(PlyScalar::float64, token, bytes.data() + bytes.size() - sizeof(double),
-                       why)) {
+      if (!parse_token(PlyScalar::float64, token, bytes.data() + bytes.size() - sizeof(double), why)) {
         fail(line_number, "'" + std::string(token) + "' is " + why);
       }
     }
@@ -105,8 +103,7 @@ void write_text_points(const PointCloud& cloud, AtomicFile& out) {
   // printf, ignores the locale's decimal separator. 32 characters hold one such value.
   char buffer[32];
   const auto put = [&](double value, char separator) {
-    const auto result =
-        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 17);
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 17);
     text.append(buffer, result.ptr);
     text += separator;
   };

@@ -6,9 +6,7 @@
 
 namespace pnf {
 
-inline bool is_blank_char(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
+inline bool is_blank_char(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 // Replaces `tokens` with the tokens of `line`; they point into `line`.
 inline void split_tokens(std::string_view line, std::vector<std::string_view>& tokens) {

@@ -11,8 +11,7 @@ namespace pnf {
 namespace {
 
 // The two spellings of normals: the common one and PCL's.
-constexpr const char* kNormalNames[2][3] = {{"nx", "ny", "nz"},
-                                            {"normal_x", "normal_y", "normal_z"}};
+constexpr const char* kNormalNames[2][3] = {{"nx", "ny", "nz"}, {"normal_x", "normal_y", "normal_z"}};
 
 std::size_t find_property(const PlyElement& element, const char* name) {
   for (std::size_t p = 0; p < element.properties.size(); ++p) {
@@ -30,9 +29,7 @@ std::string describe_value(double value) {
 }  // namespace
 
 void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
-  const auto fail = [&path](const std::string& what) {
-    throw Error(ErrorCode::invalid_input, path + ": " + what);
-  };
+  const auto fail = [&path](const std::string& what) { throw Error(ErrorCode::invalid_input, path + ": " + what); };
   const std::vector<PlyElement>& elements = impl.header.elements;
   std::size_t vertex = elements.size();
   for (std::size_t e = 0; e < elements.size(); ++e) {
@@ -66,8 +63,8 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
     }
     if (present == 0) continue;
     if (present != 3) {
-      fail(std::string("the vertex element has only some of '") + names[0] + "', '" + names[1] +
-           "', '" + names[2] + "'");
+      fail(std::string("the vertex element has only some of '") + names[0] + "', '" + names[1] + "', '" + names[2] +
+           "'");
     }
     if (fields.has_normals()) fail("the vertex element has normals under two names");
     for (int axis = 0; axis < 3; ++axis) {
@@ -80,8 +77,7 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
   impl.fields = fields;
 }
 
-void check_vertices(const PointFile::Impl& impl, const std::string& path,
-                    const std::vector<std::size_t>& row_lines) {
+void check_vertices(const PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines) {
   const PlyElement& element = impl.header.elements[impl.vertex_element];
   const VertexFields& fields = impl.fields;
   const unsigned char* row = impl.values[impl.vertex_element].data();
@@ -101,8 +97,7 @@ void check_vertices(const PointFile::Impl& impl, const std::string& path,
     for (const std::size_t field : position_fields) {
       const double value = load(field);
       if (!std::isfinite(value)) {
-        fail(vertex,
-             "coordinate " + element.properties[field].name + " is " + describe_value(value));
+        fail(vertex, "coordinate " + element.properties[field].name + " is " + describe_value(value));
       }
     }
     if (fields.has_normals()) {

@@ -87,10 +87,9 @@ void write_png(const std::string& path, const Image& image) {
   }
   const std::size_t expected = 3 * std::size_t(image.width) * std::size_t(image.height);
   if (image.rgb.size() != expected) {
-    throw Error(ErrorCode::invalid_argument, "cannot write '" + path + "': a " + std::to_string(image.width) + " x " +
-                                                 std::to_string(image.height) + " RGB image needs " +
-                                                 std::to_string(expected) + " bytes, got " +
-                                                 std::to_string(image.rgb.size()));
+    throw Error(ErrorCode::invalid_argument,
+                "cannot write '" + path + "': a " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                    " RGB image needs " + std::to_string(expected) + " bytes, got " + std::to_string(image.rgb.size()));
   }
   // A picture with only grey pixels (the shaded mode) is stored as grey: the same picture in a
   // third of the data.

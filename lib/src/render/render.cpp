@@ -126,8 +126,7 @@ void check_reference(const PointCloud& cloud, const std::vector<Vec3>& reference
   for (std::size_t i = 0; i < reference.size(); ++i) {
     const Vec3& n = reference[i];
     if (!(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]) && length(n) > 0)) {
-      throw Error(ErrorCode::invalid_input,
-                  "reference normal " + std::to_string(i) + " is zero, NaN or infinite");
+      throw Error(ErrorCode::invalid_input, "reference normal " + std::to_string(i) + " is zero, NaN or infinite");
     }
   }
 }
@@ -146,8 +145,7 @@ render_detail::Rgb shade(const Vec3& normal_camera, const Vec3& light, const Vec
 
 }  // namespace
 
-Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals,
-                    const RenderOptions& options) {
+Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals, const RenderOptions& options) {
   options.validate();
   if (options.mode == RenderMode::error && reference_normals.empty() && cloud.size() > 0) {
     throw Error(ErrorCode::invalid_argument,
@@ -172,7 +170,9 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
       base_radius = kFallbackRadiusFraction * length(d);
     }
   }
-  auto radius_of = [&](std::size_t i) { return options.radius_scale * (cloud.has_radii() ? cloud.radii[i] : base_radius); };
+  auto radius_of = [&](std::size_t i) {
+    return options.radius_scale * (cloud.has_radii() ? cloud.radii[i] : base_radius);
+  };
 
   BoundingBox box;
   if (options.frame) {
@@ -283,7 +283,8 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
     image.rgb[3 * at + 1] = c[1];
     image.rgb[3 * at + 2] = c[2];
   }
-  if (options.mode == RenderMode::error) render_detail::draw_colour_bar(image, drawing_width, options.error_max_degrees);
+  if (options.mode == RenderMode::error)
+    render_detail::draw_colour_bar(image, drawing_width, options.error_max_degrees);
   return image;
 }
 
