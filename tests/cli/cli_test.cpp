@@ -215,7 +215,11 @@ TEST_F(CliTest, InterruptCancelsTheRun) {
   if (std::system("command -v timeout >/dev/null 2>&1") != 0) GTEST_SKIP() << "timeout(1) is not installed";
   const std::string in = write_cloud("in.ply", noisy_grid());
   const CliRun r = run({"filter", in, path("out.ply"), "--backend", "reference", "--iterations", "20000"},
-                       "timeout --preserve-status -k 10 -s INT 1");
+                       // 3 s: a loaded machine can take a second just to start the process and
+                       // read the file. --foreground: without it timeout signals the child and
+                       // then its whole process group, so pnf would see a second SIGINT, which
+                       // (like a second Ctrl-C) ends it at once.
+                       "timeout --foreground --preserve-status -k 10 -s INT 3");
   EXPECT_EQ(r.exit_code, kExitCancelled) << r.describe();
   EXPECT_TRUE(contains(r.err, "cancelled")) << r.err;
   EXPECT_EQ(folder_entries(work_), std::set<std::string>{"in.ply"});
