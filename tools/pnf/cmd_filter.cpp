@@ -4,6 +4,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "pnf/auto_params.hpp"
 #include "pnf/point_file.hpp"
 
 namespace pnf::cli {
@@ -17,6 +18,8 @@ struct FilterFlags {
   double memory_mib = 0;
   DeviceFlags device;
   bool ascii = false, quiet = false, in_place = false;
+  bool automatic = false;   // --auto: sigma_f, sigma_g and passes from the data
+  double stop_change = -1;  // --stop-change DEG; < 0 when not given
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -29,8 +32,8 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "pnf filter: %zu points from %s (read in %.2f s)\n", s.points, f.in.c_str(), read_s);
   if (params.units == Units::radius) {
     std::fprintf(stderr, "  mean radius  %.6g (%s)\n", s.mean_radius, to_string(s.radius_source));
-    std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (radius units: %g, %g)\n", s.sigma_f,
-                 s.sigma_g, params.sigma_f, params.sigma_g);
+    std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (radius units: %g, %g)\n", s.sigma_f, s.sigma_g,
+                 params.sigma_f, params.sigma_g);
   } else {
     std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (absolute units)\n", s.sigma_f, s.sigma_g);
   }
@@ -40,13 +43,35 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "  lists        %.3f s, upload %.3f s\n", s.neighbour_seconds, s.upload_seconds);
   std::fprintf(stderr, "  passes       %zu:", s.pass_seconds.size());
   for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
-  std::fprintf(stderr, " s\n  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
+  std::fprintf(stderr, " s\n");
+  if (params.stop_change_deg > 0) {
+    std::fprintf(stderr,
+                 "  stop rule    %d of at most %d passes run (%s below %g deg); mean change per pass:", s.passes_run,
+                 params.iterations, s.passes_run < params.iterations ? "stopped when the change fell" : "never fell",
+                 params.stop_change_deg);
+    for (double d : s.mean_change_deg) std::fprintf(stderr, " %.3g", d);
+    std::fprintf(stderr, " deg\n");
+  }
+  std::fprintf(stderr, "  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
+}
+
+void print_auto(const AutoChoice& choice, double seconds) {
+  const DataEstimate& e = choice.estimate;
+  std::fprintf(stderr,
+               "pnf filter --auto: estimated from %zu of %zu points in %.2f s (fits of %d neighbours, radius %.4g)\n",
+               e.samples, e.points, seconds, e.fit_neighbours, e.fit_radius);
+  std::fprintf(stderr, "  spacing          %.6g model units\n", e.spacing);
+  std::fprintf(stderr, "  position noise   %.4g model units = %.3g spacings (along the normal)\n", e.position_noise,
+               e.position_noise_spacings());
+  if (e.normal_noise_deg >= 0) std::fprintf(stderr, "  normal noise     %.3g deg RMS\n", e.normal_noise_deg);
+  std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
 }
 
 int run_filter(const FilterFlags& flags) {
   FilterParams params = flags.params;
   params.units = flags.units == "absolute" ? Units::absolute : Units::radius;
   params.mean_radius = flags.radius;
+  if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
     params.validate();
@@ -60,10 +85,19 @@ int run_filter(const FilterFlags& flags) {
                                                 flags.in + " OUT` first");
     }
     stage = Stage::running;
+    const PointCloud cloud = file.cloud();
+    if (flags.automatic) {
+      const auto t_auto = std::chrono::steady_clock::now();
+      const AutoChoice choice = choose_filter_params(cloud);
+      params = choice.params;
+      // An explicit --stop-change (0 included: off) wins over the rule's.
+      if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
+      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
+    }
     FilterOptions options = flags.device.options();
     if (flags.memory_mib > 0) options.memory_budget_bytes = static_cast<std::size_t>(flags.memory_mib * 1024 * 1024);
     NormalFilter filter(options);
-    FilterResult result = filter.run(file.cloud(), params, progress_bar(flags.quiet));
+    FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
@@ -80,13 +114,26 @@ Command add_filter_command(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand("filter", "Improve the normals of a point file (Jones, Durand, Zwicker 2004)");
   app->add_option("IN", flags->in, "input point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
-  app->add_option("--sigma-f", flags->params.sigma_f, "spatial width; neighbours reach 2 sigma_f (default 4)");
-  app->add_option("--sigma-g", flags->params.sigma_g, "feature width: distance to a neighbour's plane (default 0.5)");
-  app->add_option("--iterations", flags->params.iterations, "number of passes (default 4)");
-  app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii (default); absolute: model units")
-      ->check(CLI::IsMember({"radius", "absolute"}));
-  app->add_option("--radius", flags->radius,
-                  "mean surfel radius in model units (default: mean of the radius property, else estimated)");
+  CLI::Option* sigma_f =
+      app->add_option("--sigma-f", flags->params.sigma_f, "spatial width; neighbours reach 2 sigma_f (default 4)");
+  CLI::Option* sigma_g = app->add_option("--sigma-g", flags->params.sigma_g,
+                                         "feature width: distance to a neighbour's plane (default 0.5)");
+  CLI::Option* iterations = app->add_option("--iterations", flags->params.iterations,
+                                            "number of passes, or the most passes with --stop-change (default 4)");
+  CLI::Option* units =
+      app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii (default); absolute: model units")
+          ->check(CLI::IsMember({"radius", "absolute"}));
+  CLI::Option* radius =
+      app->add_option("--radius", flags->radius,
+                      "mean surfel radius in model units (default: mean of the radius property, else estimated)");
+  app->add_flag("--auto", flags->automatic,
+                "estimate spacing, position and normal noise from the data and choose sigma_f, sigma_g and the passes "
+                "(docs/auto.md); without it the paper's settings apply")
+      ->excludes(sigma_f, sigma_g, iterations, units, radius);
+  app->add_option("--stop-change", flags->stop_change,
+                  "end the passes once the mean change of the normals falls below DEG degrees (default: off; "
+                  "--auto sets 0.1; 0 turns it off)")
+      ->check(CLI::NonNegativeNumber);
   app->add_option("--memory-budget", flags->memory_mib,
                   "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)")
       ->check(CLI::NonNegativeNumber);

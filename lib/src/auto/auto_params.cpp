@@ -1,0 +1,363 @@
+#include "pnf/auto_params.hpp"
+
+// Only the two FLANN headers needed: the whole of flann/flann.hpp pulls in every index type.
+#include <flann/algorithms/dist.h>
+#include <flann/algorithms/kdtree_single_index.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "pnf/error.hpp"
+
+namespace pnf {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Neighbourhood sizes tried, smallest first. Small ones see the fewest sharp edges and the least
+// curvature beyond second order; large ones are needed where the noise is thick against the
+// spacing (fandisk at 1.2% of its diagonal: about 5 spacings). Each is 4 times the last, so the
+// fitted radius doubles. The cylinder holds about a quarter of them: 16 points at the smallest.
+constexpr int kScales[] = {64, 256, 1024, 4096};
+// At most this many neighbour look-ups per scale (samples x neighbours): bounds the cost on
+// any N while leaving hundreds of samples for the medians even at the largest scale.
+constexpr std::size_t kMaxLookupsPerScale = 1000000;
+// Never more samples than this at any scale: a median of 4000 is good to about 2%.
+constexpr std::size_t kMaxSamples = 4000;
+// The fitted cylinder has this fraction of the distance to the farthest neighbour as radius.
+// Every point of the cylinder within sqrt(1 - 0.5^2) = 0.87 of that distance above or below the
+// centre is then inside the neighbour ball, so the count in it measures the surface density
+// even when the points are scattered along the normal.
+constexpr double kCylinderFraction = 0.5;
+// A scale is trusted when the noise it measures is below this fraction of its cylinder radius:
+// then the neighbour ball holds the noisy layer whole (more than 5 sigma of margin) and PCA finds
+// the surface's plane. Where noise fills the ball, the fit sees a blob and reports about 0.6 of
+// the radius, so the test separates the two.
+constexpr double kMaxNoiseToFitRadius = 0.3;
+// Features and normals are judged on the fits this many scales above the noise scale.
+constexpr int kUpperScaleSteps = 2;
+// A sample there is "at a feature" when its fit residual passes this many times the noise: the
+// spread of one sample's residual about the noise is about 1 / sqrt(2 (m - 6)), under 5% with
+// the ~256 points of the cylinder two scales up, so 2 is out of the noise's reach.
+constexpr double kEdgeResidualPerNoise = 2.0;
+// ... or this fraction of the spacing, on clean data: the third-order terms of smooth surfaces
+// stay below it (a torus of minor radius 14 spacings: 0.1), a 90-degree edge in the cylinder
+// leaves about a tenth of its radius (about 1 spacing).
+constexpr double kResidualFloorPerSpacing = 0.15;
+// A quadric has 6 coefficients; ask for twice as many points for a stable residual.
+constexpr int kMinFitPoints = 12;
+// The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
+const double kRayleighRmsPerMedian = std::sqrt(2.0) / std::sqrt(2.0 * std::log(2.0));
+
+// The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in spacings.
+// sigma_f grows with the noise, since more neighbours average more of it out: fandisk's grid
+// optimum went from 1.6 spacings without noise to 4 at 0.4 spacings of noise and 12 at 2.
+constexpr double kSigmaF0 = 1.6;
+constexpr double kSigmaFPerNoise = 5.0;
+constexpr double kSigmaFMin = 1.6;
+constexpr double kSigmaFMax = 12.0;
+// sigma_g must pass the spread of the distances to the neighbours' planes on one surface (about
+// sqrt 2 times the noise, as both ends are noisy) and no more, so that planes across a sharp
+// edge are still refused: the grid optima (0.2-0.3 spacings clean, 0.6-1.1 at 0.25-0.5, 3 at 2)
+// lie on this line.
+constexpr double kSigmaG0 = 0.25;
+constexpr double kSigmaGPerNoise = 1.5;
+// Past this noise (spacings) the feature term rejects more of the same surface than of the other
+// side of an edge, and the estimates can no longer see the edges: it is switched off.
+constexpr double kFeatureOffNoise = 3.0;
+// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
+// nothing to keep sharp, so the feature term is off and sigma_f wide. Smooth shapes measured
+// 0-4%, shapes with edges 15-50%.
+constexpr double kSmoothShare = 0.08;
+constexpr double kSmoothSigmaF = 8.0;
+// "Off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1 to double precision for any
+// neighbour (they are within 2 sigma_f <= 24 spacings).
+constexpr double kSigmaGOff = 1e6;
+// Passes. Clean data with edges gains from every pass (the edges sharpen); on noisy or curved
+// data the gain stops after a few and later passes drift (sphere and noisy fandisk optima: 1-2).
+constexpr double kCleanNoise = 0.15;
+constexpr int kCleanPasses = 8;
+constexpr int kNoisyPasses = 2;
+constexpr int kSmoothPasses = 2;
+// Beyond kFeatureOffNoise the normals are so poor that averaging keeps paying for 8 passes.
+constexpr int kTooNoisyPasses = 12;
+constexpr double kTooNoisySigmaF = 9.0;
+// Passes also end when the normals move less than this on average: a tenth of a degree is below
+// what any of the evaluation's cases gained from a further pass.
+constexpr double kStopChangeDeg = 0.1;
+
+using Tree = flann::KDTreeSingleIndex<flann::L2<double>>;
+
+struct Box {
+  Vec3 low, high;
+};
+
+Box bounding_box(const std::vector<Vec3>& positions) {
+  Box box{positions[0], positions[0]};
+  for (const Vec3& p : positions) {
+    for (int axis = 0; axis < 3; ++axis) {
+      box.low[axis] = std::min(box.low[axis], p[axis]);
+      box.high[axis] = std::max(box.high[axis], p[axis]);
+    }
+  }
+  return box;
+}
+
+void check_cloud(const PointCloud& cloud) {
+  constexpr std::size_t kMinPoints = 16;
+  if (cloud.size() < kMinPoints) {
+    throw Error(ErrorCode::invalid_input, "estimate_data: need at least " + std::to_string(kMinPoints) +
+                                              " points, got " + std::to_string(cloud.size()));
+  }
+  if (cloud.has_normals() && cloud.normals.size() != cloud.size()) {
+    throw Error(ErrorCode::invalid_input, "estimate_data: " + std::to_string(cloud.normals.size()) + " normals for " +
+                                              std::to_string(cloud.size()) + " points");
+  }
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3& p = cloud.positions[i];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+      throw Error(ErrorCode::invalid_input,
+                  "estimate_data: vertex " + std::to_string(i) + " has a non-finite coordinate");
+    }
+  }
+}
+
+// One sample's fit at one scale.
+struct SampleFit {
+  bool ok = false;
+  double spacing = 0;     // sqrt(pi rho^2 / count in the cylinder)
+  double residual = 0;    // RMS distance to the quadric, corrected for the 6 fitted coefficients
+  double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
+  double radius = 0;      // rho
+};
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  auto middle = values.begin() + values.size() / 2;
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// Fits the neighbourhood `ids` (the sample itself included) of sample `self`: a PCA frame, then
+// a quadric height field w(u, v) over the points of the cylinder of radius
+// kCylinderFraction * (distance to the farthest neighbour) around the frame's axis through the
+// sample. The cylinder is symmetric about the sample, so the quadric's slope there is not biased
+// by curvature (the even terms are orthogonal to the odd ones).
+SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud, std::size_t self,
+                     const std::size_t* ids, const double* squared_distances, int count) {
+  SampleFit fit;
+  const Eigen::Vector3d origin(centred[self * 3], centred[self * 3 + 1], centred[self * 3 + 2]);
+  std::vector<Eigen::Vector3d> offsets(static_cast<std::size_t>(count));
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double farthest_squared = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::size_t id = ids[k];
+    offsets[std::size_t(k)] = Eigen::Vector3d(centred[id * 3], centred[id * 3 + 1], centred[id * 3 + 2]) - origin;
+    centroid += offsets[std::size_t(k)];
+    farthest_squared = std::max(farthest_squared, squared_distances[k]);  // FLANN's L2 is squared
+  }
+  centroid /= double(count);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& o : offsets) covariance += (o - centroid) * (o - centroid).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  const Eigen::Vector3d t1 = eigen.eigenvectors().col(2);
+  const Eigen::Vector3d t2 = normal.cross(t1);
+  const double rho = kCylinderFraction * std::sqrt(farthest_squared);
+  if (!(rho > 0) || !(eigen.eigenvalues()(1) > 0)) return fit;
+
+  // Least squares in coordinates relative to the sample, scaled by rho (well conditioned at any
+  // model scale).
+  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<Eigen::Vector3d> local;
+  local.reserve(offsets.size());
+  for (const Eigen::Vector3d& o : offsets) {
+    const double u = o.dot(t1) / rho, v = o.dot(t2) / rho;
+    if (u * u + v * v > 1.0) continue;
+    const double w = o.dot(normal) / rho;
+    local.emplace_back(u, v, w);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, u, v, u * u, u * v, v * v;
+    normal_matrix += row * row.transpose();
+    rhs += row * w;
+  }
+  const int fitted = int(local.size());
+  if (fitted < kMinFitPoints) return fit;
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver = normal_matrix.ldlt();
+  const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
+  double rss = 0;
+  for (const Eigen::Vector3d& q : local) {
+    const double model =
+        c(0) + c(1) * q.x() + c(2) * q.y() + c(3) * q.x() * q.x() + c(4) * q.x() * q.y() + c(5) * q.y() * q.y();
+    rss += (q.z() - model) * (q.z() - model);
+  }
+  fit.ok = std::isfinite(rss);
+  fit.radius = rho;
+  fit.residual = rho * std::sqrt(rss / double(fitted - 6));
+  fit.spacing = std::sqrt(kPi * rho * rho / double(fitted));
+  if (cloud.has_normals()) {
+    // The slope at the sample (the origin) is (c1, c2).
+    const Eigen::Vector3d surface = (normal - c(1) * t1 - c(2) * t2).normalized();
+    const Vec3& n = cloud.normals[self];
+    const Eigen::Vector3d input = Eigen::Vector3d(n[0], n[1], n[2]);
+    const double length = input.norm();
+    if (length > 0 && std::isfinite(length)) {
+      const double cosine = std::min(1.0, std::abs(surface.dot(input / length)));
+      const double sine = surface.cross(input / length).norm();
+      fit.angle_deg = std::atan2(sine, cosine) * 180.0 / kPi;
+    }
+  }
+  return fit;
+}
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+}  // namespace
+
+DataEstimate estimate_data(const PointCloud& cloud) {
+  check_cloud(cloud);
+  const std::size_t count = cloud.size();
+  // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
+  const Box box = bounding_box(cloud.positions);
+  std::vector<double> centred(count * 3);
+  for (std::size_t i = 0; i < count; ++i) {
+    for (int axis = 0; axis < 3; ++axis) {
+      centred[i * 3 + axis] = cloud.positions[i][axis] - 0.5 * (box.low[axis] + box.high[axis]);
+    }
+  }
+  const flann::Matrix<double> points(centred.data(), count, 3);
+  Tree tree(points, flann::KDTreeSingleIndexParams(10));
+  tree.buildIndex();
+  flann::SearchParams search;
+  search.checks = flann::FLANN_CHECKS_UNLIMITED;
+  search.eps = 0.0f;
+  search.sorted = false;
+  search.cores = 1;  // the samples are spread over threads below instead
+
+  // Fits every sample at one scale, in parallel.
+  auto fit_scale = [&](int scale) {
+    const int neighbours = int(std::min<std::size_t>(std::size_t(scale), count - 1)) + 1;  // the sample too
+    const std::size_t samples =
+        std::min({count, kMaxSamples, std::max<std::size_t>(1, kMaxLookupsPerScale / std::size_t(neighbours))});
+    std::vector<SampleFit> fits(samples);
+#pragma omp parallel
+    {
+      std::vector<std::size_t> ids(static_cast<std::size_t>(neighbours));
+      std::vector<double> distances(static_cast<std::size_t>(neighbours));
+#pragma omp for schedule(dynamic, 16)
+      for (long long s = 0; s < static_cast<long long>(samples); ++s) {
+        // Evenly spread, deterministic: sample s is point floor(s N / samples).
+        const std::size_t self = std::size_t(s) * count / samples;
+        flann::Matrix<double> query(centred.data() + self * 3, 1, 3);
+        flann::Matrix<std::size_t> id_matrix(ids.data(), 1, std::size_t(neighbours));
+        flann::Matrix<double> distance_matrix(distances.data(), 1, std::size_t(neighbours));
+        tree.knnSearch(query, id_matrix, distance_matrix, std::size_t(neighbours), search);
+        fits[std::size_t(s)] = fit_sample(centred, cloud, self, ids.data(), distances.data(), neighbours);
+      }
+    }
+    fits.erase(std::remove_if(fits.begin(), fits.end(), [](const SampleFit& f) { return !f.ok; }), fits.end());
+    return fits;
+  };
+  auto medians = [](const std::vector<SampleFit>& fits, double SampleFit::*field) {
+    std::vector<double> values;
+    for (const SampleFit& f : fits) values.push_back(f.*field);
+    return median(values);
+  };
+
+  // Noise and spacing at the smallest trusted scale.
+  DataEstimate estimate;
+  estimate.points = count;
+  const int scales = int(std::size(kScales));
+  int chosen = -1;
+  for (int i = 0; i < scales; ++i) {
+    const std::vector<SampleFit> fits = fit_scale(kScales[i]);
+    if (fits.empty()) continue;
+    chosen = i;
+    estimate.samples = fits.size();
+    estimate.spacing = medians(fits, &SampleFit::spacing);
+    estimate.position_noise = medians(fits, &SampleFit::residual);
+    estimate.fit_neighbours = int(std::min<std::size_t>(std::size_t(kScales[i]), count - 1));
+    estimate.fit_radius = medians(fits, &SampleFit::radius);
+    if (estimate.position_noise <= kMaxNoiseToFitRadius * estimate.fit_radius) break;
+    if (std::size_t(kScales[i]) >= count - 1) break;  // no larger neighbourhood exists
+  }
+  if (chosen < 0) {
+    throw Error(
+        ErrorCode::invalid_input,
+        "estimate_data: no neighbourhood could be fitted with a surface (are the points on a line or one spot?)");
+  }
+  // Features and normals are judged on the fits two scales up (16 times the points, twice the
+  // radius). There a sharp edge inside the cylinder leaves a residual well above the noise, and
+  // the quadric's slope moves with the noise a quarter as much as at the noise scale. The fits
+  // hold many more points than a PCA normal of up to ~100 neighbours, whose errors are then
+  // nearly independent of theirs (a correction in quadrature would need that independence; two
+  // scales up it is not needed).
+  const int upper_scale = std::min(chosen + kUpperScaleSteps, scales - 1);
+  std::vector<SampleFit> fits = fit_scale(kScales[upper_scale]);
+  if (fits.empty()) fits = fit_scale(kScales[chosen]);
+  const double edge_residual =
+      kEdgeResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.spacing);
+  std::size_t edges = 0;
+  for (const SampleFit& f : fits) edges += f.residual > edge_residual;
+  estimate.feature_share = double(edges) / double(std::max<std::size_t>(1, fits.size()));
+  if (cloud.has_normals()) estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
+  return estimate;
+}
+
+AutoChoice choose_filter_params(const DataEstimate& estimate) {
+  if (!(estimate.spacing > 0) || !std::isfinite(estimate.spacing)) {
+    throw Error(ErrorCode::invalid_argument,
+                "choose_filter_params: spacing must be > 0 and finite, got " + format("%g", estimate.spacing));
+  }
+  const double noise = estimate.position_noise_spacings();
+  AutoChoice choice;
+  choice.estimate = estimate;
+  FilterParams& p = choice.params;
+  p.units = Units::radius;
+  p.mean_radius = estimate.spacing;
+  p.stop_change_deg = kStopChangeDeg;
+  const double sigma_f = std::clamp(kSigmaF0 + kSigmaFPerNoise * noise, kSigmaFMin, kSigmaFMax);
+  const bool smooth = estimate.feature_share < kSmoothShare;
+  const bool too_noisy = noise > kFeatureOffNoise;
+  std::string why;
+  if (smooth || too_noisy) {
+    p.sigma_f = too_noisy ? kTooNoisySigmaF : std::max(sigma_f, kSmoothSigmaF);
+    p.sigma_g = kSigmaGOff;
+    p.iterations = too_noisy ? kTooNoisyPasses : kSmoothPasses;
+    why = !too_noisy ? "smooth (features " + format("%.0f", 100 * estimate.feature_share) + "% < " +
+                           format("%g", 100 * kSmoothShare) + "%)"
+                     : "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
+  } else {
+    p.sigma_f = sigma_f;
+    p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
+    p.iterations = noise < kCleanNoise ? kCleanPasses : kNoisyPasses;
+    why = "features " + format("%.0f", 100 * estimate.feature_share) + "%";
+  }
+  const bool feature_off = p.sigma_g >= kSigmaGOff;
+  std::ostringstream rule;
+  rule << "noise " << format("%.3g", noise) << " spacings";
+  if (estimate.normal_noise_deg >= 0) rule << ", normals " << format("%.3g", estimate.normal_noise_deg) << " deg";
+  rule << ", " << why << " -> sigma_f " << format("%.3g", p.sigma_f) << ", sigma_g "
+       << (feature_off ? std::string("off") : format("%.3g", p.sigma_g)) << " spacings, up to " << p.iterations
+       << " passes, stop below " << format("%g", p.stop_change_deg) << " deg";
+  choice.rule = rule.str();
+  return choice;
+}
+
+AutoChoice choose_filter_params(const PointCloud& cloud) { return choose_filter_params(estimate_data(cloud)); }
+
+}  // namespace pnf

@@ -1,0 +1,253 @@
+// pnf::estimate_data and pnf::choose_filter_params: the estimators against noise injected into
+// shapes whose spacing is known, the rule's shape, errors, and `pnf filter --auto` end to end.
+#include "pnf/auto_params.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cli/cli_test_support.hpp"
+#include "pnf/error.hpp"
+#include "pnf/point_file.hpp"
+#include "test_clouds.hpp"
+
+namespace pnf::test {
+namespace {
+
+// The bars: spacing within 10%, position and angular noise within 25%.
+constexpr double kSpacingTolerance = 0.10;
+constexpr double kNoiseTolerance = 0.25;
+
+// A plane z = 0 sampled uniformly at random: side `side` with `points` samples, so the spacing
+// (square root of the area per point) is side / sqrt(points). Positions get Gaussian noise of
+// `noise` spacings along z; normals +z, tilted by jitter_normal of `degrees`.
+struct Noisy {
+  PointCloud cloud;
+  std::vector<Vec3> truth;
+  double spacing = 0;
+};
+
+Noisy random_plane(int points, double noise, double degrees, unsigned seed) {
+  std::mt19937 rng(seed);
+  const double side = 10.0;
+  std::uniform_real_distribution<double> u(0, side);
+  Noisy n;
+  n.spacing = side / std::sqrt(double(points));
+  std::normal_distribution<double> g(0, noise * n.spacing);
+  for (int i = 0; i < points; ++i) {
+    n.cloud.positions.push_back({u(rng), u(rng), noise > 0 ? g(rng) : 0.0});
+    n.truth.push_back({0, 0, 1});
+    n.cloud.normals.push_back(degrees > 0 ? jitter_normal({0, 0, 1}, degrees, rng) : Vec3{0, 0, 1});
+  }
+  return n;
+}
+
+// A sphere of radius 5 with `points` random samples, noise along the radius and tilted normals.
+Noisy noisy_sphere(int points, double noise, double degrees, unsigned seed) {
+  constexpr double kRadius = 5.0;
+  Noisy n;
+  const PointCloud clean = sphere(points, kRadius, seed);
+  n.spacing = std::sqrt(4 * kPi * kRadius * kRadius / points);
+  std::mt19937 rng(seed + 1);
+  std::normal_distribution<double> g(0, noise * n.spacing);
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    const Vec3& d = clean.normals[i];
+    const double r = kRadius + (noise > 0 ? g(rng) : 0.0);
+    n.cloud.positions.push_back({r * d[0], r * d[1], r * d[2]});
+    n.truth.push_back(d);
+    n.cloud.normals.push_back(degrees > 0 ? jitter_normal(d, degrees, rng) : d);
+  }
+  return n;
+}
+
+double rms_angle(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += angle_deg(a[i], b[i]) * angle_deg(a[i], b[i]);
+  return std::sqrt(sum / double(a.size()));
+}
+
+void expect_relative(double got, double want, double tolerance, const std::string& what) {
+  EXPECT_NEAR(got / want, 1.0, tolerance) << what << ": estimated " << got << ", true " << want;
+}
+
+TEST(EstimateData, SpacingOfAGridIsItsStep) {
+  const PointCloud grid = jittered_grid(80, 0.5, 0.1, 3);
+  const DataEstimate e = estimate_data(grid);
+  expect_relative(e.spacing, 0.5, kSpacingTolerance, "spacing");
+  EXPECT_LT(e.position_noise, 0.05 * 0.5) << "a flat grid has no noise along the normal";
+  EXPECT_LT(e.normal_noise_deg, 0.5);
+  EXPECT_EQ(e.points, grid.size());
+}
+
+TEST(EstimateData, PlaneWithKnownNoise) {
+  for (double noise : {0.1, 0.3, 1.0, 2.0}) {
+    const Noisy n = random_plane(20000, noise, 8, 11);
+    const DataEstimate e = estimate_data(n.cloud);
+    const std::string at = "plane, noise " + std::to_string(noise) + " spacings";
+    expect_relative(e.spacing, n.spacing, kSpacingTolerance, at + ", spacing");
+    expect_relative(e.position_noise, noise * n.spacing, kNoiseTolerance, at + ", position noise");
+    expect_relative(e.normal_noise_deg, rms_angle(n.cloud.normals, n.truth), kNoiseTolerance, at + ", normal noise");
+  }
+}
+
+TEST(EstimateData, SphereWithKnownNoise) {
+  for (double noise : {0.0, 0.25, 0.5}) {
+    for (double degrees : {3.0, 12.0}) {
+      const Noisy n = noisy_sphere(20000, noise, degrees, 5);
+      const DataEstimate e = estimate_data(n.cloud);
+      const std::string at = "sphere, noise " + std::to_string(noise) + ", " + std::to_string(degrees) + " deg";
+      expect_relative(e.spacing, n.spacing, kSpacingTolerance, at + ", spacing");
+      if (noise > 0) {
+        expect_relative(e.position_noise, noise * n.spacing, kNoiseTolerance, at + ", position noise");
+      } else {
+        EXPECT_LT(e.position_noise, 0.05 * n.spacing) << at << ": curvature mistaken for noise";
+      }
+      expect_relative(e.normal_noise_deg, rms_angle(n.cloud.normals, n.truth), kNoiseTolerance, at + ", normal noise");
+      EXPECT_LT(e.feature_share, 0.08) << at << ": a sphere has no sharp features";
+    }
+  }
+}
+
+// A 90-degree ridge: many samples see the edge; a plane: none.
+TEST(EstimateData, FeatureShareSeesEdges) {
+  const DataEstimate ridge = estimate_data(wedge(40, 100, 1.0, 0.3, 6));
+  EXPECT_GT(ridge.feature_share, 0.15);
+  const DataEstimate flat = estimate_data(random_plane(8000, 0.2, 3, 6).cloud);
+  EXPECT_LT(flat.feature_share, 0.08);
+}
+
+// Moving the cloud far away (as scans are) changes nothing but rounding.
+TEST(EstimateData, TranslationChangesNothing) {
+  Noisy n = random_plane(5000, 0.3, 5, 2);
+  const DataEstimate here = estimate_data(n.cloud);
+  for (Vec3& p : n.cloud.positions) p = {p[0] + 1e4, p[1] - 2e4, p[2] + 5e3};
+  const DataEstimate there = estimate_data(n.cloud);
+  EXPECT_NEAR(there.spacing, here.spacing, 1e-6 * here.spacing);
+  EXPECT_NEAR(there.position_noise, here.position_noise, 1e-6 * here.spacing);
+  EXPECT_NEAR(there.normal_noise_deg, here.normal_noise_deg, 1e-4);
+}
+
+TEST(EstimateData, WithoutNormalsNoAngularNoise) {
+  Noisy n = random_plane(3000, 0.2, 0, 4);
+  n.cloud.normals.clear();
+  EXPECT_LT(estimate_data(n.cloud).normal_noise_deg, 0);
+}
+
+TEST(EstimateData, BadCloudsAreErrors) {
+  PointCloud tiny = jittered_grid(3, 1, 0, 1);  // 9 points
+  EXPECT_THROW(estimate_data(tiny), Error);
+  PointCloud nan = jittered_grid(10, 1, 0, 1);
+  nan.positions[7][1] = std::nan("");
+  try {
+    estimate_data(nan);
+    ADD_FAILURE() << "a NaN coordinate was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string(e.what()).find("vertex 7"), std::string::npos) << e.what();
+  }
+  PointCloud line;
+  for (int i = 0; i < 50; ++i) line.positions.push_back({double(i), 0, 0});
+  EXPECT_THROW(estimate_data(line), Error);
+}
+
+// ---- the rule -----------------------------------------------------------------------------
+
+// A shape with sharp edges (a third of the samples at a feature), as the estimator reports one.
+DataEstimate measured(double noise_spacings, double degrees, double feature_share = 0.3) {
+  DataEstimate e;
+  e.feature_share = feature_share;
+  e.spacing = 2.0;
+  e.position_noise = noise_spacings * e.spacing;
+  e.normal_noise_deg = degrees;
+  return e;
+}
+
+// Up to the noise where the feature term goes off, more noise widens both Gaussians.
+TEST(ChooseFilterParams, MoreNoiseNeverNarrowsTheFilter) {
+  double last_f = 0, last_g = 0;
+  for (double noise : {0.0, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 2.9}) {
+    const AutoChoice c = choose_filter_params(measured(noise, 5 + 4 * noise));
+    EXPECT_NO_THROW(c.params.validate()) << c.rule;
+    EXPECT_GE(c.params.sigma_f, last_f) << c.rule;
+    EXPECT_GE(c.params.sigma_g, last_g) << c.rule;
+    EXPECT_LT(c.params.sigma_g, 1e5) << "edges are kept below 3 spacings of noise: " << c.rule;
+    EXPECT_GE(c.params.sigma_f, 1.6) << c.rule;
+    EXPECT_LE(c.params.sigma_f, 12.0) << c.rule;
+    EXPECT_EQ(c.params.units, Units::radius);
+    EXPECT_EQ(c.params.mean_radius, 2.0) << "sigmas are in the estimated spacing";
+    EXPECT_GT(c.params.stop_change_deg, 0) << "auto ends the passes by the stop rule too";
+    last_f = c.params.sigma_f;
+    last_g = c.params.sigma_g;
+  }
+}
+
+TEST(ChooseFilterParams, CleanDataKeepsEdgesAndNoisyDataDropsTheFeatureTerm) {
+  const AutoChoice clean = choose_filter_params(measured(0.0, 1));
+  EXPECT_LE(clean.params.sigma_g, 0.5) << clean.rule;
+  EXPECT_EQ(clean.params.iterations, 8) << "clean edges sharpen with every pass: " << clean.rule;
+  const AutoChoice noisy = choose_filter_params(measured(6.0, 30));
+  EXPECT_GE(noisy.params.sigma_g, 1e5) << noisy.rule;
+  EXPECT_NE(noisy.rule.find("off"), std::string::npos) << noisy.rule;
+  EXPECT_GE(noisy.params.sigma_f, 8.0) << noisy.rule;
+}
+
+TEST(ChooseFilterParams, SmoothShapesDropTheFeatureTerm) {
+  const AutoChoice smooth = choose_filter_params(measured(0.3, 5, 0.01));
+  EXPECT_GE(smooth.params.sigma_g, 1e5) << smooth.rule;
+  EXPECT_GE(smooth.params.sigma_f, 8.0) << smooth.rule;
+  EXPECT_NE(smooth.rule.find("smooth"), std::string::npos) << smooth.rule;
+}
+
+TEST(ChooseFilterParams, RejectsAMissingSpacing) {
+  DataEstimate e;
+  EXPECT_THROW(choose_filter_params(e), Error);
+  e.spacing = std::nan("");
+  EXPECT_THROW(choose_filter_params(e), Error);
+}
+
+TEST(ChooseFilterParams, FromACloudUsesItsEstimate) {
+  const Noisy n = noisy_sphere(8000, 0.3, 6, 9);
+  const AutoChoice c = choose_filter_params(n.cloud);
+  EXPECT_EQ(c.params.mean_radius, c.estimate.spacing);
+  EXPECT_NEAR(c.estimate.position_noise_spacings(), 0.3, 0.3 * kNoiseTolerance);
+}
+
+// ---- pnf filter --auto --------------------------------------------------------------------
+
+TEST_F(CliTest, FilterAutoPrintsTheEstimateAndImproves) {
+  const Noisy n = noisy_sphere(6000, 0.3, 10, 21);
+  const std::string in = write_cloud("sphere.ply", n.cloud);
+  const CliRun r = run({"filter", in, path("out.ply"), "--auto", "--backend", "reference"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  for (const char* piece : {"spacing", "position noise", "normal noise", "chose", "sigma_f", "stop rule", "passes"}) {
+    EXPECT_TRUE(contains(r.err, piece)) << "no '" << piece << "' in\n" << r.err;
+  }
+  const std::vector<Vec3> out = read_point_file(path("out.ply")).cloud().normals;
+  EXPECT_LT(rms_angle(out, n.truth), 0.5 * rms_angle(n.cloud.normals, n.truth));
+}
+
+TEST_F(CliTest, FilterAutoExcludesExplicitSigmas) {
+  const std::string in = write_cloud("plane.ply", random_plane(500, 0.1, 3, 1).cloud);
+  const CliRun r = run({"filter", in, path("out.ply"), "--auto", "--sigma-f", "3"});
+  EXPECT_EQ(r.exit_code, 2) << r.describe();
+  EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
+}
+
+// The stop rule from the command line: a clean plane stops changing at once, so far fewer than
+// the 20 passes asked for run, and the summary says how many.
+TEST_F(CliTest, FilterStopChangeEndsThePassesEarly) {
+  const std::string in = write_cloud("plane.ply", random_plane(2000, 0.05, 5, 3).cloud);
+  const CliRun r =
+      run({"filter", in, path("out.ply"), "--backend", "reference", "--iterations", "20", "--stop-change", "0.5"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_TRUE(contains(r.err, "of at most 20 passes run")) << r.err;
+  EXPECT_FALSE(contains(r.err, "passes       20:")) << r.err;
+  const CliRun bad = run({"filter", in, path("out2.ply"), "--stop-change", "-1"});
+  EXPECT_EQ(bad.exit_code, 2) << bad.describe();
+}
+
+}  // namespace
+}  // namespace pnf::test
