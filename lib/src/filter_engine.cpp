@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numeric>
 
+#include "bounding_box.hpp"
 #include "chunk_plan.hpp"
 #include "cloud_checks.hpp"
 #include "mean_radius_internal.hpp"
@@ -32,14 +33,7 @@ struct OrderedCloud {
 OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<Vec3>& unit) {
   OrderedCloud out;
   out.order = morton_order(cloud.positions);
-  Vec3 lo = cloud.positions[0], hi = cloud.positions[0];
-  for (const Vec3& p : cloud.positions) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  }
-  const Vec3 centre = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  const Vec3 centre = bounding_box(cloud.positions).centre();
   const std::size_t n = cloud.size();
   out.positions.resize(3 * n);
   out.normals.resize(3 * n);

@@ -16,6 +16,7 @@
 #include <omp.h>
 #endif
 
+#include "bounding_box.hpp"
 #include "pnf/error.hpp"
 
 namespace pnf {
@@ -97,20 +98,7 @@ constexpr double kStopChangeDeg = 0.1;
 
 using Tree = flann::KDTreeSingleIndex<flann::L2<double>>;
 
-struct Box {
-  Vec3 low, high;
-};
-
-Box bounding_box(const std::vector<Vec3>& positions) {
-  Box box{positions[0], positions[0]};
-  for (const Vec3& p : positions) {
-    for (int axis = 0; axis < 3; ++axis) {
-      box.low[axis] = std::min(box.low[axis], p[axis]);
-      box.high[axis] = std::max(box.high[axis], p[axis]);
-    }
-  }
-  return box;
-}
+using detail::bounding_box;
 
 void check_cloud(const PointCloud& cloud) {
   constexpr std::size_t kMinPoints = 16;
@@ -232,7 +220,7 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   check_cloud(cloud);
   const std::size_t count = cloud.size();
   // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
-  const Box box = bounding_box(cloud.positions);
+  const detail::BoundingBox box = bounding_box(cloud.positions);
   std::vector<double> centred(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
     for (int axis = 0; axis < 3; ++axis) {

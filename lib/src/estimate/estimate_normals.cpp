@@ -15,6 +15,7 @@
 #include <omp.h>
 #endif
 
+#include "bounding_box.hpp"
 #include "orient_normals.hpp"
 #include "pnf/error.hpp"
 #include "spatial_order.hpp"
@@ -61,22 +62,7 @@ void check_positions(const std::vector<Vec3>& positions) {
   }
 }
 
-struct Box {
-  Vec3 low;
-  Vec3 high;
-  Vec3 centre() const { return {0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]), 0.5 * (low[2] + high[2])}; }
-};
-
-Box bounding_box(const std::vector<Vec3>& positions) {
-  Box box{positions[0], positions[0]};
-  for (const Vec3& p : positions) {
-    for (int axis = 0; axis < 3; ++axis) {
-      box.low[axis] = std::min(box.low[axis], p[axis]);
-      box.high[axis] = std::max(box.high[axis], p[axis]);
-    }
-  }
-  return box;
-}
+using detail::bounding_box;
 
 // The k nearest other points of every point, by an exact kd-tree search. Coordinates are taken
 // relative to `centre` (the bounding-box centre) so that a translated cloud gives the same
@@ -211,7 +197,7 @@ std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const Est
   check_positions(positions);
 
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(params.k), positions.size() - 1));
-  const Box box = bounding_box(positions);
+  const detail::BoundingBox box = bounding_box(positions);
   // Curve order puts spatial neighbours near each other in memory: the kd-tree queries, PCA
   // gathers and mst traversal run several times faster than in a scan's row order.
   const std::vector<std::uint32_t> order = detail::morton_order(positions);
