@@ -119,6 +119,17 @@ TEST(EstimateData, FeatureShareSeesEdges) {
   EXPECT_LT(flat.feature_share, 0.08);
 }
 
+// Curvature: a sphere of 40 spacings' radius is curved everywhere; a ridge of two planes and a
+// noisy plane are flat, noise and the edge notwithstanding.
+TEST(EstimateData, CurvedShareTellsCurvedFromFlat) {
+  for (double noise : {0.0, 0.5}) {
+    const std::string at = "noise " + std::to_string(noise) + " spacings";
+    EXPECT_GT(estimate_data(noisy_sphere(20000, noise, 3, 7).cloud).curved_share, 0.9) << at;
+    EXPECT_LT(estimate_data(random_plane(20000, noise, 3, 7).cloud).curved_share, 0.05) << at;
+  }
+  EXPECT_LT(estimate_data(wedge(40, 100, 1.0, 0.3, 6)).curved_share, 0.05) << "ridge";
+}
+
 // Moving the cloud far away (as scans are) changes nothing but rounding.
 TEST(EstimateData, TranslationChangesNothing) {
   Noisy n = random_plane(5000, 0.3, 5, 2);
@@ -156,9 +167,10 @@ TEST(EstimateData, BadCloudsAreErrors) {
 // ---- the rule -----------------------------------------------------------------------------
 
 // A shape with sharp edges (a third of the samples at a feature), as the estimator reports one.
-DataEstimate measured(double noise_spacings, double degrees, double feature_share = 0.3) {
+DataEstimate measured(double noise_spacings, double degrees, double feature_share = 0.3, double curved_share = 0) {
   DataEstimate e;
   e.feature_share = feature_share;
+  e.curved_share = curved_share;
   e.spacing = 2.0;
   e.position_noise = noise_spacings * e.spacing;
   e.normal_noise_deg = degrees;
@@ -167,21 +179,55 @@ DataEstimate measured(double noise_spacings, double degrees, double feature_shar
 
 // Up to the noise where the feature term goes off, more noise widens both Gaussians.
 TEST(ChooseFilterParams, MoreNoiseNeverNarrowsTheFilter) {
-  double last_f = 0, last_g = 0;
-  for (double noise : {0.0, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 2.9}) {
-    const AutoChoice c = choose_filter_params(measured(noise, 5 + 4 * noise));
-    EXPECT_NO_THROW(c.params.validate()) << c.rule;
-    EXPECT_GE(c.params.sigma_f, last_f) << c.rule;
-    EXPECT_GE(c.params.sigma_g, last_g) << c.rule;
-    EXPECT_LT(c.params.sigma_g, 1e5) << "edges are kept below 3 spacings of noise: " << c.rule;
-    EXPECT_GE(c.params.sigma_f, 1.6) << c.rule;
-    EXPECT_LE(c.params.sigma_f, 12.0) << c.rule;
-    EXPECT_EQ(c.params.units, Units::radius);
-    EXPECT_EQ(c.params.mean_radius, 2.0) << "sigmas are in the estimated spacing";
-    EXPECT_GT(c.params.stop_change_deg, 0) << "auto ends the passes by the stop rule too";
-    last_f = c.params.sigma_f;
-    last_g = c.params.sigma_g;
+  for (double curved_share : {0.0, 0.7}) {
+    double last_f = 0, last_g = 0;
+    for (double noise : {0.0, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 2.9}) {
+      const AutoChoice c = choose_filter_params(measured(noise, 5 + 4 * noise, 0.3, curved_share));
+      EXPECT_NO_THROW(c.params.validate()) << c.rule;
+      EXPECT_GE(c.params.sigma_f, last_f) << c.rule;
+      EXPECT_GE(c.params.sigma_g, last_g) << c.rule;
+      EXPECT_LT(c.params.sigma_g, 1e5) << "edges are kept below 3 spacings of noise: " << c.rule;
+      EXPECT_GE(c.params.sigma_f, 1.6) << c.rule;
+      EXPECT_LE(c.params.sigma_f, 12.0) << c.rule;
+      EXPECT_EQ(c.params.units, Units::radius);
+      EXPECT_EQ(c.params.mean_radius, 2.0) << "sigmas are in the estimated spacing";
+      EXPECT_GT(c.params.stop_change_deg, 0) << "auto ends the passes by the stop rule too";
+      last_f = c.params.sigma_f;
+      last_g = c.params.sigma_g;
+    }
   }
+}
+
+// Flat faces between edges keep every pass at every noise level; curved ones start narrower and
+// run fewer passes as the noise grows (later passes drift on curved patches).
+TEST(ChooseFilterParams, CurvedFacesGetFewerPassesThanFlatOnes) {
+  int last_passes = 1000;
+  for (double noise : {0.0, 0.1, 0.25, 0.5, 1.0, 2.0}) {
+    const AutoChoice flat = choose_filter_params(measured(noise, 3, 0.3, 0.0));
+    const AutoChoice curved = choose_filter_params(measured(noise, 3, 0.3, 0.7));
+    EXPECT_EQ(flat.params.iterations, 8) << flat.rule;
+    EXPECT_LE(curved.params.iterations, last_passes) << curved.rule;
+    EXPECT_GE(curved.params.iterations, 2) << curved.rule;
+    last_passes = curved.params.iterations;
+    EXPECT_NE(curved.rule.find("curved"), std::string::npos) << curved.rule;
+  }
+  EXPECT_EQ(last_passes, 2);
+  EXPECT_LT(choose_filter_params(measured(0, 1, 0.3, 0.7)).params.sigma_f,
+            choose_filter_params(measured(0, 1, 0.3, 0.0)).params.sigma_f);
+}
+
+// A smooth curved shape: clean positions and normals that already agree with the surface are
+// kept as they are; noisier normals get one pass, then two. A plane gains from every pass.
+TEST(ChooseFilterParams, SmoothShapesFilterOnlyWhatNeedsIt) {
+  const AutoChoice clean = choose_filter_params(measured(0.0, 0.3, 0.0, 1.0));
+  EXPECT_EQ(clean.params.iterations, 0) << clean.rule;
+  EXPECT_NE(clean.rule.find("no pass"), std::string::npos) << clean.rule;
+  EXPECT_EQ(choose_filter_params(measured(0.2, 0.3, 0.0, 1.0)).params.iterations, 1) << "noisy positions";
+  EXPECT_EQ(choose_filter_params(measured(0.0, 1.5, 0.0, 1.0)).params.iterations, 1);
+  EXPECT_EQ(choose_filter_params(measured(0.2, 8.0, 0.0, 1.0)).params.iterations, 2);
+  EXPECT_EQ(choose_filter_params(measured(0.2, 8.0, 0.0, 0.0)).params.iterations, 8) << "a plane";
+  DataEstimate no_normals = measured(0.0, -1, 0.0, 1.0);
+  EXPECT_GT(choose_filter_params(no_normals).params.iterations, 0) << "nothing says the normals are good";
 }
 
 TEST(ChooseFilterParams, CleanDataKeepsEdgesAndNoisyDataDropsTheFeatureTerm) {

@@ -64,6 +64,8 @@ void print_auto(const AutoChoice& choice, double seconds) {
   std::fprintf(stderr, "  position noise   %.4g model units = %.3g spacings (along the normal)\n", e.position_noise,
                e.position_noise_spacings());
   if (e.normal_noise_deg >= 0) std::fprintf(stderr, "  normal noise     %.3g deg RMS\n", e.normal_noise_deg);
+  std::fprintf(stderr, "  shape            %.0f%% of the samples at an edge, %.0f%% of the smooth ones curved\n",
+               100 * e.feature_share, 100 * e.curved_share);
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
 }
 
@@ -132,7 +134,7 @@ Command add_filter_command(CLI::App& parent) {
       ->excludes(sigma_f, sigma_g, iterations, units, radius);
   app->add_option("--stop-change", flags->stop_change,
                   "end the passes once the mean change of the normals falls below DEG degrees (default: off; "
-                  "--auto sets 0.1; 0 turns it off)")
+                  "--auto sets 0.01; 0 turns it off)")
       ->check(CLI::NonNegativeNumber);
   app->add_option("--memory-budget", flags->memory_mib,
                   "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)")

@@ -39,6 +39,9 @@ struct DataEstimate {
   // spacings on clean data): neighbourhoods across a sharp edge or corner. Near 0 on smooth
   // shapes, and also where the noise hides the features.
   double feature_share = 0;
+  // Share of the smooth samples (0..1) whose fitted quadric curves by more than 0.015 per
+  // spacing (a radius under about 67 spacings): near 0 on planes and polyhedra, near 1 on spheres.
+  double curved_share = 0;
 
   // position_noise / spacing, or 0 when spacing is 0.
   double position_noise_spacings() const { return spacing > 0 ? position_noise / spacing : 0.0; }

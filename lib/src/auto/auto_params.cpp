@@ -54,47 +54,78 @@ constexpr double kEdgeResidualPerNoise = 2.0;
 // stay below it (a torus of minor radius 14 spacings: 0.1), a 90-degree edge in the cylinder
 // leaves about a tenth of its radius (about 1 spacing).
 constexpr double kResidualFloorPerSpacing = 0.15;
+// Curvature is read from fits whose residual is within this many times the noise: the residual's
+// spread about the noise is under 5% there, and fits that graze an edge (whose curvature is the
+// edge's, not the surface's) stay out.
+constexpr double kSmoothResidualPerNoise = 1.25;
+// A fit is "curved" when its largest principal curvature passes this many per spacing (a radius
+// of curvature under 67 spacings). Noise leaves at most about 0.01 per spacing at half a spacing
+// of noise two scales up; planes and polyhedra measured 0-8% curved, the cylinder 71%, fandisk 22-84%.
+constexpr double kCurvedPerSpacing = 0.015;
 // A quadric has 6 coefficients; ask for twice as many points for a stable residual.
 constexpr int kMinFitPoints = 12;
 // The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
 const double kRayleighRmsPerMedian = std::sqrt(2.0) / std::sqrt(2.0 * std::log(2.0));
 
-// The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in spacings.
-// sigma_f grows with the noise, since more neighbours average more of it out: fandisk's grid
-// optimum went from 1.6 spacings without noise to 4 at 0.4 spacings of noise and 12 at 2.
-constexpr double kSigmaF0 = 1.6;
-constexpr double kSigmaFPerNoise = 5.0;
-constexpr double kSigmaFMin = 1.6;
-constexpr double kSigmaFMax = 12.0;
+// The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in spacings,
+// p = position noise / spacing. Four kinds of data, by the estimate's feature share (edges or not)
+// and curved share (a plane or polyhedron, or curved surfaces):
+//
+// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
+// nothing to keep sharp, so the feature term is off. Smooth shapes measured 0-4%, shapes with
+// edges 15-50%.
+constexpr double kSmoothShare = 0.08;
+// A curved share (DataEstimate::curved_share) from this up is a curved shape: flat shapes
+// measured 0-8%, the cylinder 71%, fandisk 22-84%, spheres and tori 100%.
+constexpr double kCurvedShare = 0.15;
 // sigma_g must pass the spread of the distances to the neighbours' planes on one surface (about
 // sqrt 2 times the noise, as both ends are noisy) and no more, so that planes across a sharp
-// edge are still refused: the grid optima (0.2-0.3 spacings clean, 0.6-1.1 at 0.25-0.5, 3 at 2)
+// edge are still refused: the grid optima (0.2 spacings clean, 0.6-1.1 at 0.25-0.5, 3 at 2)
 // lie on this line.
-constexpr double kSigmaG0 = 0.25;
+constexpr double kSigmaG0 = 0.2;
 constexpr double kSigmaGPerNoise = 1.5;
-// Past this noise (spacings) the feature term rejects more of the same surface than of the other
-// side of an edge, and the estimates can no longer see the edges: it is switched off.
-constexpr double kFeatureOffNoise = 3.0;
-// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
-// nothing to keep sharp, so the feature term is off and sigma_f wide. Smooth shapes measured
-// 0-4%, shapes with edges 15-50%.
-constexpr double kSmoothShare = 0.08;
-constexpr double kSmoothSigmaF = 8.0;
-// "Off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1 to double precision for any
-// neighbour (they are within 2 sigma_f <= 24 spacings).
+// Flat faces between edges: a wide sigma_f and 8 passes at every noise level (each pass sharpens
+// the edges further and nothing bends away from the neighbours' planes); cube and wedges optima.
+constexpr double kFlatEdgesSigmaF = 6.5;
+constexpr int kFlatEdgesPasses = 8;
+// Curved faces between edges: sigma_f grows with the noise, since more neighbours average more of
+// it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
+// distance (fandisk and cylinder optima: 1.6 spacings clean, 3-4 at p = 0.25-0.5, 12 at 2) ...
+constexpr double kCurvedEdgesSigmaF0 = 1.6;
+constexpr double kCurvedEdgesSigmaFPerNoise = 5.0;
+constexpr double kCurvedEdgesSigmaFMax = 12.0;
+// ... and the passes fall with the noise: later passes drift on curved patches and eat small
+// features (fandisk: 8 clean, 2 at p = 0.4; the cylinder: 4 at p = 0.26). passes = this / p,
+// between the bounds below.
+constexpr double kCurvedEdgesPassesTimesNoise = 1.1;
+constexpr int kCurvedEdgesMinPasses = 2;
+constexpr int kCurvedEdgesMaxPasses = 8;
+// Smooth shapes: the feature term off ("off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1
+// to double precision for any neighbour within 2 sigma_f <= 24 spacings) and a wide sigma_f.
 constexpr double kSigmaGOff = 1e6;
-// Passes. Clean data with edges gains from every pass (the edges sharpen); on noisy or curved
-// data the gain stops after a few and later passes drift (sphere and noisy fandisk optima: 1-2).
-constexpr double kCleanNoise = 0.15;
-constexpr int kCleanPasses = 8;
-constexpr int kNoisyPasses = 2;
-constexpr int kSmoothPasses = 2;
-// Beyond kFeatureOffNoise the normals are so poor that averaging keeps paying for 8 passes.
-constexpr int kTooNoisyPasses = 12;
+constexpr double kSmoothSigmaF = 8.0;
+// A smooth flat shape (a plane) gains from every pass.
+constexpr int kSmoothFlatPasses = 8;
+// A smooth curved one loses a little with each pass (the averaged normals lean towards the
+// denser side of an irregular sample), so the passes follow the angular noise of the input:
+// none when the positions are clean and the normals already agree with the fitted surface to
+// within this (clean spheres: the input was the best of the grid; at 0.1 spacings of noise one
+// pass still gained 15%) ...
+constexpr double kNoFilterNormalNoiseDeg = 0.6;
+constexpr double kNoFilterNoise = 0.05;
+// ... one pass up to this, then two (spheres and tori, PCA-16 against PCA-64 input normals).
+constexpr double kOnePassNormalNoiseDeg = 3.0;
+constexpr int kSmoothCurvedPasses = 2;
+// Past this noise (spacings) the feature term rejects more of the same surface than of the other
+// side of an edge, and the estimates can no longer see the edges: it is switched off and the
+// normals are so poor that averaging keeps paying (fandisk at 1.2% of its diagonal).
+constexpr double kFeatureOffNoise = 3.0;
 constexpr double kTooNoisySigmaF = 9.0;
-// Passes also end when the normals move less than this on average: a tenth of a degree is below
-// what any of the evaluation's cases gained from a further pass.
-constexpr double kStopChangeDeg = 0.1;
+constexpr int kTooNoisyPasses = 12;
+// Passes also end when the normals move less than this on average. Small: on flat shapes every
+// pass still gains a little (at 0.1 degrees the plane and cube stopped at 3-5 of their 8 passes
+// and lost 10-25%).
+constexpr double kStopChangeDeg = 0.01;
 
 using Tree = flann::KDTreeSingleIndex<flann::L2<double>>;
 
@@ -126,6 +157,7 @@ struct SampleFit {
   double residual = 0;    // RMS distance to the quadric, corrected for the 6 fitted coefficients
   double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
   double radius = 0;      // rho
+  double curvature = 0;   // the quadric's largest principal curvature magnitude, 1 / model units
 };
 
 double median(std::vector<double> values) {
@@ -193,6 +225,11 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
   fit.radius = rho;
   fit.residual = rho * std::sqrt(rss / double(fitted - 6));
   fit.spacing = std::sqrt(kPi * rho * rho / double(fitted));
+  {
+    // Hessian of the height field in model units: the fit is in units of rho.
+    const double a = 2 * c(3) / rho, b = c(4) / rho, d = 2 * c(5) / rho;
+    fit.curvature = std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+  }
   if (cloud.has_normals()) {
     // The slope at the sample (the origin) is (c1, c2).
     const Eigen::Vector3d surface = (normal - c(1) * t1 - c(2) * t2).normalized();
@@ -302,6 +339,17 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   std::size_t edges = 0;
   for (const SampleFit& f : fits) edges += f.residual > edge_residual;
   estimate.feature_share = double(edges) / double(std::max<std::size_t>(1, fits.size()));
+  // Curvature is judged only on fits that are clearly smooth (residual within the noise's own
+  // spread): a fit grazing an edge reports a large curvature.
+  const double smooth_residual =
+      kSmoothResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.spacing);
+  std::size_t smooth = 0, curved = 0;
+  for (const SampleFit& f : fits) {
+    if (f.residual > smooth_residual) continue;
+    ++smooth;
+    curved += f.curvature * estimate.spacing > kCurvedPerSpacing;
+  }
+  estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
   if (cloud.has_normals()) estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
   return estimate;
 }
@@ -318,30 +366,53 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   p.units = Units::radius;
   p.mean_radius = estimate.spacing;
   p.stop_change_deg = kStopChangeDeg;
-  const double sigma_f = std::clamp(kSigmaF0 + kSigmaFPerNoise * noise, kSigmaFMin, kSigmaFMax);
   const bool smooth = estimate.feature_share < kSmoothShare;
-  const bool too_noisy = noise > kFeatureOffNoise;
-  std::string why;
-  if (smooth || too_noisy) {
-    p.sigma_f = too_noisy ? kTooNoisySigmaF : std::max(sigma_f, kSmoothSigmaF);
+  const bool curved = estimate.curved_share >= kCurvedShare;
+  const double normal_noise = estimate.normal_noise_deg;
+  std::string why = (smooth ? "smooth (features " : "edges (features ") + format("%.0f", 100 * estimate.feature_share) +
+                    "%), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
+                    "% curved)";
+  if (noise > kFeatureOffNoise) {
+    p.sigma_f = kTooNoisySigmaF;
     p.sigma_g = kSigmaGOff;
-    p.iterations = too_noisy ? kTooNoisyPasses : kSmoothPasses;
-    why = !too_noisy ? "smooth (features " + format("%.0f", 100 * estimate.feature_share) + "% < " +
-                           format("%g", 100 * kSmoothShare) + "%)"
-                     : "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
+    p.iterations = kTooNoisyPasses;
+    why = "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
+  } else if (smooth) {
+    p.sigma_f = kSmoothSigmaF;
+    p.sigma_g = kSigmaGOff;
+    if (!curved) {
+      p.iterations = kSmoothFlatPasses;
+    } else if (normal_noise < 0) {  // no input normals to judge: the noisy case
+      p.iterations = kSmoothCurvedPasses;
+    } else {
+      p.iterations = normal_noise < kNoFilterNormalNoiseDeg && noise < kNoFilterNoise ? 0
+                     : normal_noise < kOnePassNormalNoiseDeg                          ? 1
+                                                                                      : kSmoothCurvedPasses;
+      if (p.iterations == 0) why += ", normals already agree with the surface";
+    }
   } else {
-    p.sigma_f = sigma_f;
     p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
-    p.iterations = noise < kCleanNoise ? kCleanPasses : kNoisyPasses;
-    why = "features " + format("%.0f", 100 * estimate.feature_share) + "%";
+    if (!curved) {
+      p.sigma_f = kFlatEdgesSigmaF;
+      p.iterations = kFlatEdgesPasses;
+    } else {
+      p.sigma_f = std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerNoise * noise, kCurvedEdgesSigmaFMax);
+      const double passes = noise > 0 ? kCurvedEdgesPassesTimesNoise / noise : kCurvedEdgesMaxPasses;
+      p.iterations = int(std::clamp(std::floor(passes), double(kCurvedEdgesMinPasses), double(kCurvedEdgesMaxPasses)));
+    }
   }
   const bool feature_off = p.sigma_g >= kSigmaGOff;
   std::ostringstream rule;
   rule << "noise " << format("%.3g", noise) << " spacings";
   if (estimate.normal_noise_deg >= 0) rule << ", normals " << format("%.3g", estimate.normal_noise_deg) << " deg";
-  rule << ", " << why << " -> sigma_f " << format("%.3g", p.sigma_f) << ", sigma_g "
-       << (feature_off ? std::string("off") : format("%.3g", p.sigma_g)) << " spacings, up to " << p.iterations
-       << " passes, stop below " << format("%g", p.stop_change_deg) << " deg";
+  rule << ", " << why << " -> ";
+  if (p.iterations == 0) {
+    rule << "no pass (the input normals are kept)";
+  } else {
+    rule << "sigma_f " << format("%.3g", p.sigma_f) << ", sigma_g "
+         << (feature_off ? std::string("off") : format("%.3g", p.sigma_g)) << " spacings, up to " << p.iterations
+         << " passes, stop below " << format("%g", p.stop_change_deg) << " deg";
+  }
   choice.rule = rule.str();
   return choice;
 }
