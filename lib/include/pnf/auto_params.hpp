@@ -64,13 +64,16 @@ struct AutoChoice {
   std::string rule;  // e.g. "noise 0.48 spacings, normals 9.1 deg -> sigma_f 4, sigma_g 1.2, ..."
 };
 
-// The rule (docs/auto.md), with p = position_noise / spacing, sigmas in spacings:
-//   shape with edges (feature_share >= 8%) and p <= 3:
-//     sigma_f = clamp(1.6 + 5 p, 1.6, 12), sigma_g = 0.25 + 1.5 p,
-//     passes 8 when p < 0.15 (clean edges sharpen with each pass), else 2;
-//   smooth shape (feature_share < 8%), p <= 3: sigma_f = max(8, 1.6 + 5 p), feature term off, 2 passes;
-//   p > 3 (noise hides the edges): sigma_f 9, feature term off (sigma_g 1e6), 12 passes;
-//   always: stop_change_deg 0.1 (passes end once the normals move less on average).
+// The rule (docs/auto.md), with p = position_noise / spacing, sigmas in spacings, "edges" meaning
+// feature_share >= 8% and "curved" curved_share >= 15%:
+//   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
+//   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes;
+//   edges, curved faces: sigma_f min(1.6 + 5 p, 12), sigma_g 0.2 + 1.5 p, floor(1.1 / p) passes
+//     within [2, 8];
+//   smooth, flat: sigma_f 8, feature term off, 8 passes;
+//   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
+//     normal_noise_deg < 0.6, 1 pass when normal_noise_deg < 3, else 2 (also without normals);
+//   always: stop_change_deg 0.01 (passes end once the normals move less on average).
 // The constants and their reasons are in auto_params.cpp. Throws pnf::Error(invalid_argument)
 // when spacing is not > 0 and finite. Thread safety: pure function.
 AutoChoice choose_filter_params(const DataEstimate& estimate);
