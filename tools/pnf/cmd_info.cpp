@@ -14,15 +14,6 @@ namespace {
 // Normals within this of length 1 count as unit: float32 storage rounds at about 1e-7.
 constexpr double kUnitTolerance = 1e-5;
 
-const char* encoding_name(PlyEncoding e) {
-  switch (e) {
-    case PlyEncoding::ascii: return "ascii";
-    case PlyEncoding::binary_little_endian: return "binary_little_endian";
-    case PlyEncoding::binary_big_endian: return "binary_big_endian";
-  }
-  return "?";
-}
-
 int run_info(const std::string& path) {
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
@@ -30,7 +21,7 @@ int run_info(const std::string& path) {
     const PlyHeader& header = file.header();
     std::printf("%s\n", path.c_str());
     if (file.source_format() == PointFileFormat::ply)
-      std::printf("  format       ply %s\n", encoding_name(header.encoding));
+      std::printf("  format       ply %s\n", to_string(header.encoding));
     else
       std::printf("  format       text (x y z%s per line)\n", file.has_normals() ? " nx ny nz" : "");
     for (const PlyComment& c : header.comments) std::printf("  %-12s %s\n", c.keyword.c_str(), c.text.c_str());

@@ -31,6 +31,9 @@ enum class PointFileFormat {
 // The body encoding named on a PLY header's format line.
 enum class PlyEncoding { ascii, binary_little_endian, binary_big_endian };
 
+// The encoding's name as a PLY header spells it ("ascii", "binary_little_endian", ...).
+const char* to_string(PlyEncoding encoding);
+
 // A PLY scalar type. Both spellings of the header ("char"/"int8", "float"/"float32", ...) map
 // to the same value; PlyProperty keeps the spelling the file used.
 enum class PlyScalar { int8, uint8, int16, uint16, int32, uint32, float32, float64 };

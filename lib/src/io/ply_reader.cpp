@@ -134,13 +134,12 @@ class PlyReader {
   void read_format(const std::vector<std::string_view>& tokens) {
     if (tokens.size() != 3) fail_header("expected 'format <encoding> <version>'");
     PlyHeader& header = impl_->header;
-    if (tokens[1] == "ascii") {
-      header.encoding = PlyEncoding::ascii;
-    } else if (tokens[1] == "binary_little_endian") {
-      header.encoding = PlyEncoding::binary_little_endian;
-    } else if (tokens[1] == "binary_big_endian") {
-      header.encoding = PlyEncoding::binary_big_endian;
-    } else {
+    bool known = false;
+    for (const PlyEncoding e :
+         {PlyEncoding::ascii, PlyEncoding::binary_little_endian, PlyEncoding::binary_big_endian}) {
+      if (tokens[1] == to_string(e)) header.encoding = e, known = true;
+    }
+    if (!known) {
       fail_header("unknown format '" + std::string(tokens[1]) +
                   "' (expected ascii, binary_little_endian or binary_big_endian)");
     }

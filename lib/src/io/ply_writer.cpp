@@ -14,15 +14,6 @@ namespace {
 // formatting.
 constexpr std::size_t kTextChunk = std::size_t{1} << 20;
 
-const char* encoding_name(PlyEncoding encoding) {
-  switch (encoding) {
-    case PlyEncoding::ascii: return "ascii";
-    case PlyEncoding::binary_little_endian: return "binary_little_endian";
-    case PlyEncoding::binary_big_endian: return "binary_big_endian";
-  }
-  return "ascii";
-}
-
 std::string header_text(const PlyHeader& header, bool ascii) {
   std::string text = "ply\n";
   std::size_t declarations = 0;
@@ -38,7 +29,7 @@ std::string header_text(const PlyHeader& header, bool ascii) {
   };
   put_comments(declarations++);
   text += "format ";
-  text += encoding_name(ascii ? PlyEncoding::ascii : PlyEncoding::binary_little_endian);
+  text += to_string(ascii ? PlyEncoding::ascii : PlyEncoding::binary_little_endian);
   text += ' ' + header.version + '\n';
   for (const PlyElement& element : header.elements) {
     put_comments(declarations++);

@@ -307,4 +307,13 @@ void write_point_file(const std::string& path, const PointFile& file, const Writ
   out.commit();
 }
 
+const char* to_string(PlyEncoding encoding) {
+  switch (encoding) {
+    case PlyEncoding::ascii: return "ascii";
+    case PlyEncoding::binary_little_endian: return "binary_little_endian";
+    case PlyEncoding::binary_big_endian: return "binary_big_endian";
+  }
+  return "ascii";
+}
+
 }  // namespace pnf
