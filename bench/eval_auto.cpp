@@ -399,16 +399,17 @@ int main(int argc, char** argv) {
       "mean radii (pnf default units), auto in estimated spacings. ratio = auto / best of grid.\n\n");
   std::printf("%-24s %6s %6s %6s %7s %13s %7s %13s %6s  %s\n", "case", "input", "paper", "best", "auto", "best setting",
               "", "auto setting", "ratio",
-              "estimate: spacing/radius, noise in spacings (true), normals deg, features %, curved %");
+              "estimate: spacing/radius, noise in spacings (true), normals deg, features %, curved %, normal error "
+              "correlation");
 
   std::vector<std::pair<Case, Outcome>> results;
   auto report = [&](Case& c, const Outcome& o) {
     const DataEstimate& e = o.choice.estimate;
-    std::printf("%-24s %6.2f %6.2f %6.2f %7.2f %13s %7s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f\n",
+    std::printf("%-24s %6.2f %6.2f %6.2f %7.2f %13s %7s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f\n",
                 c.name.c_str(), o.input_rms, o.paper_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
                 no_grid ? "-" : setting_text(o.best).c_str(), "", auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
                 e.spacing / o.mean_radius, e.position_noise_spacings(), c.true_noise / e.spacing, e.normal_noise_deg,
-                100 * e.feature_share, 100 * e.curved_share);
+                100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation);
     std::fflush(stdout);
     c.cloud = {};
     c.truth = {};
@@ -502,8 +503,9 @@ int main(int argc, char** argv) {
           << "\", \"mean_radius\": " << o.mean_radius << ", \"spacing\": " << e.spacing
           << ", \"noise_spacings\": " << e.position_noise_spacings() << ", \"true_noise\": " << c.true_noise
           << ", \"normal_noise_deg\": " << e.normal_noise_deg << ", \"feature_share\": " << e.feature_share
-          << ", \"curved_share\": " << e.curved_share << ", \"rule\": \"" << json_escape(o.choice.rule)
-          << "\", \"grid\": [";
+          << ", \"curved_share\": " << e.curved_share
+          << ", \"normal_error_correlation\": " << e.normal_error_correlation << ", \"rule\": \""
+          << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];
         out << (g ? ", " : "") << "[" << s.sigma_f << ", " << s.sigma_g << ", " << s.passes << ", " << s.rms << "]";

@@ -11,6 +11,7 @@
 
 #include "cli/cli_test_support.hpp"
 #include "pnf/error.hpp"
+#include "pnf/estimate_normals.hpp"
 #include "pnf/point_file.hpp"
 #include "test_clouds.hpp"
 
@@ -111,12 +112,73 @@ TEST(EstimateData, SphereWithKnownNoise) {
   }
 }
 
+// Normals whose errors are independent from point to point correlate near 0; normals tilted by a
+// field that changes over tens of spacings near 1; PCA normals lie between, the more so the more
+// neighbours they average (their errors come from the neighbourhoods they share).
+TEST(EstimateData, NormalErrorCorrelationSeesSmoothedNormals) {
+  const Noisy independent = noisy_sphere(20000, 0.0, 2, 9);
+  EXPECT_LT(std::fabs(estimate_data(independent.cloud).normal_error_correlation), 0.1);
+
+  Noisy smooth = independent;
+  const double wavelength = 30 * smooth.spacing;
+  for (std::size_t i = 0; i < smooth.cloud.size(); ++i) {
+    const Vec3& p = smooth.cloud.positions[i];
+    const Vec3& d = smooth.truth[i];
+    // A 2-degree tilt towards a direction that turns slowly with the position.
+    const double angle = 2 * kPi * (p[0] + 0.5 * p[1]) / wavelength;
+    const Vec3 push = {std::cos(angle), std::sin(angle), 0.3};
+    const double along = push[0] * d[0] + push[1] * d[1] + push[2] * d[2];
+    const double tilt = std::tan(2.0 * kPi / 180.0);
+    Vec3 n;
+    for (int k = 0; k < 3; ++k) n[k] = d[k] + tilt * (push[k] - along * d[k]);
+    smooth.cloud.normals[i] = normalized(n);
+  }
+  EXPECT_GT(estimate_data(smooth.cloud).normal_error_correlation, 0.7);
+
+  auto pca_correlation = [&](int k) {
+    EstimateParams params;
+    params.k = k;
+    Noisy pca = independent;
+    pca.cloud.normals = estimate_normals(pca.cloud.positions, params);
+    return estimate_data(pca.cloud).normal_error_correlation;
+  };
+  const double pca16 = pca_correlation(16), pca64 = pca_correlation(64);
+  EXPECT_LT(pca16, 0.1);
+  EXPECT_GT(pca64, pca16 + 0.1) << "PCA-16 " << pca16 << ", PCA-64 " << pca64;  // measured 0.02, 0.20
+  PointCloud bare = independent.cloud;
+  bare.normals.clear();
+  EXPECT_EQ(estimate_data(bare).normal_error_correlation, 0.0) << "no normals, nothing to correlate";
+}
+
 // A 90-degree ridge: many samples see the edge; a plane: none.
 TEST(EstimateData, FeatureShareSeesEdges) {
   const DataEstimate ridge = estimate_data(wedge(40, 100, 1.0, 0.3, 6));
   EXPECT_GT(ridge.feature_share, 0.15);
   const DataEstimate flat = estimate_data(random_plane(8000, 0.2, 3, 6).cloud);
   EXPECT_LT(flat.feature_share, 0.08);
+}
+
+// A torus whose tube is about 9 spacings thick in radius: the largest neighbourhoods hold the
+// whole tube and fit it badly everywhere, which must not read as a shape made of edges.
+TEST(EstimateData, ThinTubeIsSmoothNotAllEdges) {
+  constexpr double kBig = 1.0, kSmall = 0.35;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> unit(0, 1);
+  PointCloud torus;
+  while (torus.size() < 10000) {
+    const double u = 2 * kPi * unit(rng), v = 2 * kPi * unit(rng);
+    // Uniform over the area: the ring at angle v has length proportional to kBig + kSmall cos v.
+    if (unit(rng) * (kBig + kSmall) > kBig + kSmall * std::cos(v)) continue;
+    const Vec3 n = {std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v)};
+    const double ring = kBig + kSmall * std::cos(v);
+    torus.positions.push_back({ring * std::cos(u), ring * std::sin(u), kSmall * std::sin(v)});
+    torus.normals.push_back(n);
+  }
+  const DataEstimate e = estimate_data(torus);
+  EXPECT_NEAR(kSmall / e.spacing, 9.4, 1.0) << "the tube radius in spacings this test is about";
+  EXPECT_LT(e.feature_share, 0.08);
+  EXPECT_GT(e.curved_share, 0.9);
+  EXPECT_LT(e.normal_noise_deg, 0.5) << "exact normals";
 }
 
 // Curvature: a sphere of 40 spacings' radius is curved everywhere; a ridge of two planes and a
@@ -226,6 +288,18 @@ TEST(ChooseFilterParams, SmoothShapesFilterOnlyWhatNeedsIt) {
   EXPECT_EQ(choose_filter_params(measured(0.0, 1.5, 0.0, 1.0)).params.iterations, 1);
   EXPECT_EQ(choose_filter_params(measured(0.2, 8.0, 0.0, 1.0)).params.iterations, 2);
   EXPECT_EQ(choose_filter_params(measured(0.2, 8.0, 0.0, 0.0)).params.iterations, 8) << "a plane";
+  DataEstimate smoothed = measured(0.0, 1.0, 0.0, 1.0);  // clean, normals already smoothed
+  smoothed.normal_error_correlation = 0.35;
+  const AutoChoice refit = choose_filter_params(smoothed);
+  EXPECT_LT(refit.params.sigma_g, 1.0) << "the positions re-derive the normals: " << refit.rule;
+  EXPECT_LT(refit.params.sigma_f, 8.0) << refit.rule;
+  EXPECT_EQ(refit.params.iterations, 1) << refit.rule;
+  EXPECT_NE(refit.rule.find("correlation 0.35"), std::string::npos) << refit.rule;
+  smoothed.normal_error_correlation = 0.05;
+  EXPECT_GE(choose_filter_params(smoothed).params.sigma_g, 1e5) << "independent errors average away";
+  smoothed.normal_error_correlation = 0.35;
+  smoothed.position_noise = 0.25 * smoothed.spacing;
+  EXPECT_GE(choose_filter_params(smoothed).params.sigma_g, 1e5) << "noisy positions cannot re-derive the normals";
   DataEstimate no_normals = measured(0.0, -1, 0.0, 1.0);
   EXPECT_GT(choose_filter_params(no_normals).params.iterations, 0) << "nothing says the normals are good";
 }

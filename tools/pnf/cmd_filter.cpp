@@ -63,7 +63,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
   std::fprintf(stderr, "  spacing          %.6g model units\n", e.spacing);
   std::fprintf(stderr, "  position noise   %.4g model units = %.3g spacings (along the normal)\n", e.position_noise,
                e.position_noise_spacings());
-  if (e.normal_noise_deg >= 0) std::fprintf(stderr, "  normal noise     %.3g deg RMS\n", e.normal_noise_deg);
+  if (e.normal_noise_deg >= 0) {
+    std::fprintf(stderr, "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f\n",
+                 e.normal_noise_deg, e.normal_error_correlation);
+  }
   std::fprintf(stderr, "  shape            %.0f%% of the samples at an edge, %.0f%% of the smooth ones curved\n",
                100 * e.feature_share, 100 * e.curved_share);
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());

@@ -35,13 +35,19 @@ struct DataEstimate {
   // wide against the noise measured in it (kMaxNoiseToFitRadius in the source).
   int fit_neighbours = 0;
   double fit_radius = 0;
-  // Share of the samples (0..1) whose quadric fit misses by more than 3 times the noise (or 0.02
+  // Share of the samples (0..1) whose quadric fit misses by more than 2 times the noise (or 0.15
   // spacings on clean data): neighbourhoods across a sharp edge or corner. Near 0 on smooth
-  // shapes, and also where the noise hides the features.
+  // shapes, and also where the noise hides the features. Judged two scales above fit_neighbours,
+  // or fewer where 80% or more would miss there (a neighbourhood wider than a thin part).
   double feature_share = 0;
   // Share of the smooth samples (0..1) whose fitted quadric curves by more than 0.015 per
   // spacing (a radius under about 67 spacings): near 0 on planes and polyhedra, near 1 on spheres.
   double curved_share = 0;
+  // How alike the errors of nearby input normals are: the correlation (-1..1) of the input normals'
+  // deviations from the fitted quadrics' normals, between points within 2.5 spacings. Near 0 for
+  // normals from small neighbourhoods (PCA over 16 points), 0.2-0.6 for normals already smoothed
+  // over several spacings (PCA over 64), whose errors averaging cannot remove. 0 without normals.
+  double normal_error_correlation = 0;
 
   // position_noise / spacing, or 0 when spacing is 0.
   double position_noise_spacings() const { return spacing > 0 ? position_noise / spacing : 0.0; }
@@ -72,7 +78,9 @@ struct AutoChoice {
 //     within [2, 8];
 //   smooth, flat: sigma_f 8, feature term off, 8 passes;
 //   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
-//     normal_noise_deg < 0.6, 1 pass when normal_noise_deg < 3, else 2 (also without normals);
+//     normal_noise_deg < 0.6; when p < 0.05 and normal_error_correlation >= 0.2 instead sigma_f
+//     3.3, sigma_g 0.2 + 1.5 p, 1 pass (the clean positions re-derive already-smoothed normals);
+//     else 1 pass when normal_noise_deg < 3, else 2 (also without normals);
 //   always: stop_change_deg 0.01 (passes end once the normals move less on average).
 // The constants and their reasons are in auto_params.cpp. Throws pnf::Error(invalid_argument)
 // when spacing is not > 0 and finite. Thread safety: pure function.

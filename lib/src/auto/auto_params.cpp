@@ -54,6 +54,9 @@ constexpr double kEdgeResidualPerNoise = 2.0;
 // stay below it (a torus of minor radius 14 spacings: 0.1), a 90-degree edge in the cylinder
 // leaves about a tenth of its radius (about 1 spacing).
 constexpr double kResidualFloorPerSpacing = 0.15;
+// More than this share of fits at an edge means the scale is too wide for the shape: shapes with
+// edges measured 15-50% (the cube 46%); a torus of tube radius 10 spacings 97% at 1024 neighbours.
+constexpr double kImplausibleFeatureShare = 0.8;
 // Curvature is read from fits whose residual is within this many times the noise: the residual's
 // spread about the noise is under 5% there, and fits that graze an edge (whose curvature is the
 // edge's, not the surface's) stay out.
@@ -62,6 +65,10 @@ constexpr double kSmoothResidualPerNoise = 1.25;
 // of curvature under 67 spacings). Noise leaves at most about 0.01 per spacing at half a spacing
 // of noise two scales up; planes and polyhedra measured 0-8% curved, the cylinder 71%, fandisk 22-84%.
 constexpr double kCurvedPerSpacing = 0.015;
+// The correlation of the input normals' errors is taken between each sample and the points within
+// this many spacings of it: PCA normals from 16 neighbours (a radius of about 2.3 spacings) share
+// little there, from 64 (4.5 spacings) most of their neighbours.
+constexpr double kCorrelationReachSpacings = 2.5;
 // A quadric has 6 coefficients; ask for twice as many points for a stable residual.
 constexpr int kMinFitPoints = 12;
 // The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
@@ -116,6 +123,15 @@ constexpr double kNoFilterNoise = 0.05;
 // ... one pass up to this, then two (spheres and tori, PCA-16 against PCA-64 input normals).
 constexpr double kOnePassNormalNoiseDeg = 3.0;
 constexpr int kSmoothCurvedPasses = 2;
+// Clean positions, but input normals whose errors are alike over a few spacings (normal error
+// correlation from this up; already smoothed, as PCA over 64 neighbours): averaging them again
+// keeps their errors, while the feature term with sigma_g 0.2 spacings (kSigmaG0) re-derives the
+// normals from the positions. One pass, sigma_f between the neighbours' reach and the curvature's
+// (clean torus, PCA-64: 0.70 deg at 3.3 spacings against 0.83 at 1.6 and 0.89 at 6.6, input 1.10;
+// PCA-16 normals there, correlation 0.06, need plain averaging). Clean spheres and tori measured
+// 0.02-0.06 with PCA-16 normals, 0.18-0.34 with PCA-64.
+constexpr double kCoherentErrorCorrelation = 0.2;
+constexpr double kCoherentSigmaF = 3.3;
 // Past this noise (spacings) the feature term rejects more of the same surface than of the other
 // side of an edge, and the estimates can no longer see the edges: it is switched off and the
 // normals are so poor that averaging keeps paying (fandisk at 1.2% of its diagonal: 8.5-9
@@ -159,6 +175,10 @@ struct SampleFit {
   double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
   double radius = 0;      // rho
   double curvature = 0;   // the quadric's largest principal curvature magnitude, 1 / model units
+  // Sums over the points within kCorrelationReachSpacings of the sample, of e_sample . e_point
+  // and |e_sample| |e_point|, e being an input normal minus the quadric's normal at that point.
+  double error_dot = 0;
+  double error_magnitudes = 0;
 };
 
 double median(std::vector<double> values) {
@@ -172,7 +192,9 @@ double median(std::vector<double> values) {
 // a quadric height field w(u, v) over the points of the cylinder of radius
 // kCylinderFraction * (distance to the farthest neighbour) around the frame's axis through the
 // sample. The cylinder is symmetric about the sample, so the quadric's slope there is not biased
-// by curvature (the even terms are orthogonal to the odd ones).
+// by curvature (the even terms are orthogonal to the odd ones). With normals, also compares the
+// input normals with the quadric's: at the sample (angle_deg) and, for the correlation of the
+// errors, at the points near it.
 SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud, std::size_t self,
                      const std::size_t* ids, const double* squared_distances, int count) {
   SampleFit fit;
@@ -232,15 +254,36 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
     fit.curvature = std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
   }
   if (cloud.has_normals()) {
-    // The slope at the sample (the origin) is (c1, c2).
-    const Eigen::Vector3d surface = (normal - c(1) * t1 - c(2) * t2).normalized();
-    const Vec3& n = cloud.normals[self];
-    const Eigen::Vector3d input = Eigen::Vector3d(n[0], n[1], n[2]);
-    const double length = input.norm();
-    if (length > 0 && std::isfinite(length)) {
-      const double cosine = std::min(1.0, std::abs(surface.dot(input / length)));
-      const double sine = surface.cross(input / length).norm();
-      fit.angle_deg = std::atan2(sine, cosine) * 180.0 / kPi;
+    // The quadric's unit normal at (u, v) (in units of rho), and the input normal of point `id`
+    // as a unit vector on the same side, or zero when it has no direction.
+    auto surface_at = [&](double u, double v) {
+      return (normal - (c(1) + 2 * c(3) * u + c(4) * v) * t1 - (c(2) + c(4) * u + 2 * c(5) * v) * t2).normalized();
+    };
+    auto input_towards = [&](std::size_t id, const Eigen::Vector3d& side) -> Eigen::Vector3d {
+      const Vec3& n = cloud.normals[id];
+      const Eigen::Vector3d input(n[0], n[1], n[2]);
+      const double length = input.norm();
+      if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
+      return input.dot(side) < 0 ? Eigen::Vector3d(-input / length) : Eigen::Vector3d(input / length);
+    };
+    const Eigen::Vector3d surface = surface_at(0, 0);
+    const Eigen::Vector3d input = input_towards(self, surface);
+    if (input.squaredNorm() > 0) {
+      const double cosine = std::min(1.0, surface.dot(input));
+      fit.angle_deg = std::atan2(surface.cross(input).norm(), cosine) * 180.0 / kPi;
+      const Eigen::Vector3d error = input - surface;
+      const double reach = kCorrelationReachSpacings * fit.spacing;
+      for (int k = 0; k < count; ++k) {
+        if (ids[k] == self) continue;
+        const Eigen::Vector3d& o = offsets[std::size_t(k)];
+        const double u = o.dot(t1), v = o.dot(t2);
+        if (u * u + v * v > reach * reach) continue;
+        const Eigen::Vector3d there = surface_at(u / rho, v / rho);
+        const Eigen::Vector3d other = input_towards(ids[k], there);
+        if (other.squaredNorm() == 0) continue;
+        fit.error_dot += error.dot(other - there);
+        fit.error_magnitudes += error.norm() * (other - there).norm();
+      }
     }
   }
   return fit;
@@ -332,14 +375,22 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   // hold many more points than a PCA normal of up to ~100 neighbours, whose errors are then
   // nearly independent of theirs (a correction in quadrature would need that independence; two
   // scales up it is not needed).
-  const int upper_scale = std::min(chosen + kUpperScaleSteps, scales - 1);
-  std::vector<SampleFit> fits = fit_scale(kScales[upper_scale]);
-  if (fits.empty()) fits = fit_scale(kScales[chosen]);
   const double edge_residual =
       kEdgeResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.spacing);
-  std::size_t edges = 0;
-  for (const SampleFit& f : fits) edges += f.residual > edge_residual;
-  estimate.feature_share = double(edges) / double(std::max<std::size_t>(1, fits.size()));
+  auto share_at_edges = [&](const std::vector<SampleFit>& fits) {
+    std::size_t edges = 0;
+    for (const SampleFit& f : fits) edges += f.residual > edge_residual;
+    return double(edges) / double(std::max<std::size_t>(1, fits.size()));
+  };
+  // Nearly every fit missing the surface is a neighbourhood too wide for the shape (a tube a few
+  // cylinder radii thick, seen whole from one side), not a cloud of edges: one scale down then.
+  std::vector<SampleFit> fits;
+  for (int upper_scale = std::min(chosen + kUpperScaleSteps, scales - 1); upper_scale >= chosen; --upper_scale) {
+    fits = fit_scale(kScales[upper_scale]);
+    if (fits.empty()) continue;
+    estimate.feature_share = share_at_edges(fits);
+    if (estimate.feature_share < kImplausibleFeatureShare) break;
+  }
   // Curvature is judged only on fits that are clearly smooth (residual within the noise's own
   // spread): a fit grazing an edge reports a large curvature.
   const double smooth_residual =
@@ -351,7 +402,18 @@ DataEstimate estimate_data(const PointCloud& cloud) {
     curved += f.curvature * estimate.spacing > kCurvedPerSpacing;
   }
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
-  if (cloud.has_normals()) estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
+  if (cloud.has_normals()) {
+    estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
+    // The reference is the quadric two scales up, fitted to 16 times the points of a PCA normal of
+    // 64 neighbours: at the noise scale the fit shares the input normals' neighbours and with them
+    // most of their errors, and the correlation measured there was near 0 for PCA-16 and PCA-64 alike.
+    double dot = 0, magnitudes = 0;
+    for (const SampleFit& f : fits) {
+      dot += f.error_dot;
+      magnitudes += f.error_magnitudes;
+    }
+    estimate.normal_error_correlation = magnitudes > 0 ? dot / magnitudes : 0;
+  }
   return estimate;
 }
 
@@ -385,11 +447,17 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
       p.iterations = kSmoothFlatPasses;
     } else if (normal_noise < 0) {  // no input normals to judge: the noisy case
       p.iterations = kSmoothCurvedPasses;
+    } else if (noise < kNoFilterNoise && normal_noise < kNoFilterNormalNoiseDeg) {
+      p.iterations = 0;
+      why += ", normals already agree with the surface";
+    } else if (noise < kNoFilterNoise && estimate.normal_error_correlation >= kCoherentErrorCorrelation) {
+      p.sigma_f = kCoherentSigmaF;
+      p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
+      p.iterations = 1;
+      why += ", clean positions, normal errors alike over spacings (correlation " +
+             format("%.2f", estimate.normal_error_correlation) + ")";
     } else {
-      p.iterations = normal_noise < kNoFilterNormalNoiseDeg && noise < kNoFilterNoise ? 0
-                     : normal_noise < kOnePassNormalNoiseDeg                          ? 1
-                                                                                      : kSmoothCurvedPasses;
-      if (p.iterations == 0) why += ", normals already agree with the surface";
+      p.iterations = normal_noise < kOnePassNormalNoiseDeg ? 1 : kSmoothCurvedPasses;
     }
   } else {
     p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
