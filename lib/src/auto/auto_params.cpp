@@ -55,7 +55,7 @@ constexpr double kEdgeResidualPerNoise = 2.0;
 // leaves about a tenth of its radius (about 1 spacing).
 constexpr double kResidualFloorPerSpacing = 0.15;
 // More than this share of fits at an edge means the scale is too wide for the shape: shapes with
-// edges measured 15-50% (the cube 46%); a torus of tube radius 10 spacings 97% at 1024 neighbours.
+// edges measured 15-50% (the cube 46%); a torus of tube radius 9 spacings 97% at 1024 neighbours.
 constexpr double kImplausibleFeatureShare = 0.8;
 // Curvature is read from fits whose residual is within this many times the noise: the residual's
 // spread about the noise is under 5% there, and fits that graze an edge (whose curvature is the
@@ -404,9 +404,10 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
   if (cloud.has_normals()) {
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
-    // The reference is the quadric two scales up, fitted to 16 times the points of a PCA normal of
-    // 64 neighbours: at the noise scale the fit shares the input normals' neighbours and with them
-    // most of their errors, and the correlation measured there was near 0 for PCA-16 and PCA-64 alike.
+    // The reference is the quadric two scales up (one where the step-down above was taken),
+    // fitted to 16 times the points of a PCA normal of 64 neighbours: at the noise scale the fit
+    // shares the input normals' neighbours and with them most of their errors, and the
+    // correlation measured there was near 0 for PCA-16 and PCA-64 alike.
     double dot = 0, magnitudes = 0;
     for (const SampleFit& f : fits) {
       dot += f.error_dot;
