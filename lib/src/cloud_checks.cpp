@@ -1,9 +1,7 @@
 #include "cloud_checks.hpp"
 
 #include <cmath>
-#include <cstdint>
 #include <limits>
-#include <string>
 
 #include "pnf/error.hpp"
 
@@ -14,43 +12,55 @@ bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) &
 
 double length(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-[[noreturn]] void fail(const std::string& what) { throw Error(ErrorCode::invalid_input, what); }
-
 }  // namespace
 
-void check_cloud(const PointCloud& cloud) {
+void check_cloud(const CloudView& cloud, const CloudRequirements& requirements) {
+  const std::string prefix = requirements.caller.empty() ? "" : requirements.caller + ": ";
+  auto fail = [&](const std::string& what) { throw Error(ErrorCode::invalid_input, prefix + what); };
   const std::size_t n = cloud.size();
-  if (n >= std::numeric_limits<std::uint32_t>::max()) {
-    fail("the cloud has " + std::to_string(n) + " points; pnf handles at most 4294967294");
+  if (n < requirements.min_points) {
+    fail("need at least " + std::to_string(requirements.min_points) + " points, got " + std::to_string(n));
   }
-  if (n > 0 && cloud.normals.empty()) {
+  if (n > requirements.max_points) {
+    fail("the cloud has " + std::to_string(n) + " points; at most " + std::to_string(requirements.max_points) +
+         " are supported");
+  }
+  if (n > 0 && cloud.positions.data == nullptr) fail("the positions view has no data");
+  if (requirements.needs_normals && n > 0 && !cloud.has_normals()) {
     fail("the cloud has no normals; estimate them first (pnf estimate, or pnf::estimate_normals)");
   }
-  if (cloud.normals.size() != n) {
-    fail("the cloud has " + std::to_string(n) + " positions but " + std::to_string(cloud.normals.size()) + " normals");
+  if (cloud.has_normals() && cloud.normals.count != n) {
+    fail("the cloud has " + std::to_string(n) + " positions but " + std::to_string(cloud.normals.count) + " normals");
   }
-  if (!cloud.radii.empty() && cloud.radii.size() != n) {
-    fail("the cloud has " + std::to_string(n) + " positions but " + std::to_string(cloud.radii.size()) + " radii");
+  if (cloud.has_radii() && cloud.radii.count != n) {
+    fail("the cloud has " + std::to_string(n) + " positions but " + std::to_string(cloud.radii.count) + " radii");
   }
+  const bool normals = cloud.has_normals() && requirements.checks_normals;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!finite(cloud.positions[i])) fail("vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
-    if (!finite(cloud.normals[i])) fail("vertex " + std::to_string(i) + " has a NaN or infinite normal component");
-    // A normal this short has no direction left to keep after normalisation.
-    if (!(length(cloud.normals[i]) > std::numeric_limits<double>::min())) {
-      fail("vertex " + std::to_string(i) + " has a zero-length normal");
+    if (!finite(cloud.positions.at(i))) fail("vertex " + std::to_string(i) + " has a NaN or infinite coordinate");
+    if (normals) {
+      const Vec3 normal = cloud.normals.at(i);
+      if (!finite(normal)) fail("vertex " + std::to_string(i) + " has a NaN or infinite normal component");
+      // A normal this short has no direction left to keep after normalisation.
+      if (!(length(normal) > std::numeric_limits<double>::min())) {
+        fail("vertex " + std::to_string(i) + " has a zero-length normal");
+      }
     }
-    if (!cloud.radii.empty() && !(std::isfinite(cloud.radii[i]) && cloud.radii[i] > 0)) {
-      fail("vertex " + std::to_string(i) + " has radius " + std::to_string(cloud.radii[i]) +
-           "; must be finite and > 0");
+    if (cloud.has_radii()) {
+      const double radius = cloud.radii.get(i);
+      if (!(std::isfinite(radius) && radius > 0)) {
+        fail("vertex " + std::to_string(i) + " has radius " + std::to_string(radius) + "; must be finite and > 0");
+      }
     }
   }
 }
 
-std::vector<Vec3> unit_normals(const std::vector<Vec3>& normals) {
-  std::vector<Vec3> out(normals.size());
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    double len = length(normals[i]);
-    out[i] = {normals[i][0] / len, normals[i][1] / len, normals[i][2] / len};
+std::vector<double> unit_normals(const Vec3ArrayView& normals) {
+  std::vector<double> out(3 * normals.count);
+  for (std::size_t i = 0; i < normals.count; ++i) {
+    const Vec3 n = normals.at(i);
+    const double len = length(n);
+    for (int c = 0; c < 3; ++c) out[3 * i + c] = n[c] / len;
   }
   return out;
 }

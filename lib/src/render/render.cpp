@@ -151,7 +151,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
     throw Error(ErrorCode::invalid_argument,
                 "error mode needs reference normals (the true normals, one per point) to compare with");
   }
-  detail::check_cloud(cloud);
+  detail::check_cloud(cloud, detail::CloudRequirements::filter());
   if (options.mode == RenderMode::error) check_reference(cloud, reference_normals);
 
   const std::size_t n = cloud.size();
@@ -187,7 +187,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
     }
   }
   const Camera cam = make_camera(box, options, drawing_width);
-  const std::vector<Vec3> normals = detail::unit_normals(cloud.normals);
+  const std::vector<double> normals = detail::unit_normals(cloud.normals);
   const Vec3 light = normalized(options.light);
   const Vec3 half = normalized({light[0], light[1], light[2] + 1});  // view direction (0, 0, 1)
 
@@ -197,7 +197,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int64_t i = 0; i < count; ++i) {
     const Vec3& p = cloud.positions[i];
-    const Vec3& w = normals[i];
+    const Vec3 w = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
     Splat& s = splats[i];
     s.x = cam.cx + (dot(p, cam.right) - cam.u_mid) * cam.scale;
     s.y = cam.cy - (dot(p, cam.up) - cam.v_mid) * cam.scale;
