@@ -30,7 +30,7 @@ struct OrderedCloud {
   std::vector<double> normals;       // N by 3, unit
 };
 
-OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<Vec3>& unit) {
+OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<double>& unit) {
   OrderedCloud out;
   out.order = morton_order(cloud.positions);
   const Vec3 centre = bounding_box(cloud.positions).centre();
@@ -41,7 +41,7 @@ OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<Vec3>& unit)
     const std::size_t i = out.order[k];
     for (int c = 0; c < 3; ++c) {
       out.positions[3 * k + c] = cloud.positions[i][c] - centre[c];
-      out.normals[3 * k + c] = unit[i][c];
+      out.normals[3 * k + c] = unit[3 * i + c];
     }
   }
   return out;
@@ -113,7 +113,7 @@ void check_pair_estimate(const NeighbourSearch& search, double reach, const Filt
 FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, const PointCloud& cloud,
                         const FilterParams& params, const ProgressCallback& progress) {
   params.validate();
-  check_cloud(cloud);
+  check_cloud(cloud, CloudRequirements::filter());
 
   FilterResult result;
   FilterSummary& summary = result.summary;
@@ -122,7 +122,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   summary.device = backend.description();
   if (cloud.size() == 0) return result;
 
-  const std::vector<Vec3> unit = unit_normals(cloud.normals);
+  const std::vector<double> unit = unit_normals(cloud.normals);
   auto start = Clock::now();
   OrderedCloud ordered = order_cloud(cloud, unit);
   NeighbourSearch search(ordered.positions.data(), cloud.size());
@@ -140,7 +140,8 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   summary.neighbour_seconds = seconds_since(start);
 
   if (params.iterations == 0) {
-    result.normals = unit;
+    result.normals.resize(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) result.normals[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
     return result;
   }
 
