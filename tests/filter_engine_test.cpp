@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+
+#include "opencl_backend.hpp"
 #include "reference_backend.hpp"
+#include "test_backends.hpp"
 #include "test_clouds.hpp"
 
 namespace {
@@ -108,6 +112,56 @@ TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
     EXPECT_NE(what.find("about 200000 neighbours per point"), std::string::npos) << what;
     EXPECT_NE(what.find("149.0 GiB of lists"), std::string::npos) << what;
   }
+}
+
+TEST(FilterEngine, WorkPastTheTimeLimitIsRefusedFromAProbeWithTheNumbers) {
+  // The same hostile width under the pair limit (4e10 < 2^36): a probe times the device on a few
+  // million pairs and the run, hours long, is refused before any list is built.
+  pnf::PointCloud ball = noisy_sphere(200000, 3);
+  pnf::FilterParams params;
+  params.units = pnf::Units::absolute;
+  params.sigma_f = 100;
+  pnf::FilterOptions options;
+  options.device = pnf::Device::reference();
+  auto backend = pnf::detail::make_reference_backend(0);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    run_engine(*backend, options, ball, params, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_argument);
+    EXPECT_NE(what.find("this run would take about"), std::string::npos) << what;
+    EXPECT_NE(what.find("(200000 per point) times 4 passes"), std::string::npos) << what;
+    EXPECT_NE(what.find("the limit is 10 min"), std::string::npos) << what;
+    EXPECT_NE(what.find("--max-seconds"), std::string::npos) << what;
+  }
+  // Not a timing test: a refusal that took as long as the run would be no refusal at all.
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
+
+}
+
+TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
+  // The probe builds lists and runs the kernel on a piece of the cloud before the real run; that
+  // must leave no trace. With a limit low enough to probe (the work passes max_seconds * 1e7)
+  // but well above what an OpenCL device needs (PoCL here runs 1e8 pairs a second; the margin is
+  // for a loaded machine), the run goes ahead.
+  std::string why;
+  pnf::NormalFilter* unused = pnf::test::opencl_filter(why);
+  if (!unused) GTEST_SKIP() << "no OpenCL device: " << why;
+  pnf::PointCloud ball = noisy_sphere(20000, 5);
+  pnf::FilterOptions options;
+  options.max_seconds = 0;  // no limit, no probe
+  auto backend = pnf::detail::make_opencl_backend("", 0);
+  const pnf::FilterResult plain = run_engine(*backend, options, ball, {}, {});
+  const double work = double(plain.summary.neighbour_pairs) * 5;  // 4 passes and the lists
+  options.max_seconds = work / 1.5e7;
+  ASSERT_GT(work, options.max_seconds * 1e7) << "the run must be probed";
+  const pnf::FilterResult probed = run_engine(*backend, options, ball, {}, {});
+  for (std::size_t i = 0; i < ball.size(); ++i) ASSERT_EQ(probed.normals[i], plain.normals[i]) << i;
+
+  options.max_seconds = work / 1e12;  // faster than any device: refused
+  EXPECT_THROW(run_engine(*backend, options, ball, {}, {}), pnf::Error);
 }
 
 TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {

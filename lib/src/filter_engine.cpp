@@ -101,12 +101,12 @@ std::string gib(double bytes) {
 }
 
 // Refuses, before the exact count, a neighbourhood so wide that the lists would pass
-// options.memory.max_neighbour_pairs (every point neighbouring every other, say): that count alone
-// would take hours. A sample of points gives the estimate.
-void check_pair_estimate(const NeighbourSearch& search, double reach, const FilterOptions& options,
-                         const FilterSummary& summary) {
+// options.memory.max_neighbour_pairs (every point neighbouring every other, say): that count
+// alone would take hours. A sample of points gives the estimate, which is returned.
+double check_pair_estimate(const NeighbourSearch& search, double reach, const FilterOptions& options,
+                           const FilterSummary& summary) {
   const double estimate = search.estimate_pairs(reach);
-  if (estimate <= double(options.memory.max_neighbour_pairs)) return;
+  if (estimate <= double(options.memory.max_neighbour_pairs)) return estimate;
   const double per_point = estimate / double(search.size());
   throw Error(ErrorCode::invalid_argument,
               "sigma_f = " + std::to_string(summary.sigma_f) + " model units gives about " +
@@ -115,6 +115,51 @@ void check_pair_estimate(const NeighbourSearch& search, double reach, const Filt
                   " of lists, as many kernel evaluations per pass), more than the limit of " +
                   std::to_string(options.memory.max_neighbour_pairs) +
                   " pairs; lower sigma_f, or raise MemoryPolicy::max_neighbour_pairs (pnf filter --max-pairs)");
+}
+
+// No device is slower than this (pair evaluations per second; the double reference on one core
+// does about 2e7): work below max_seconds times this runs without a speed probe.
+constexpr double kSlowestPairsPerSecond = 1e7;
+// The probe times about this many pairs: milliseconds on a GPU, tens of them on a CPU.
+constexpr double kProbePairs = 4e6;
+
+// Times this device on a compact piece of the cloud (consecutive points along the curve, in
+// its middle): building their lists, and one kernel pass over them. Returns the estimated
+// seconds of the whole run, lists and passes, for `pairs` neighbour pairs per pass.
+double estimate_run_seconds(FilterBackend& backend, const NeighbourSearch& search, const OrderedCloud& ordered,
+                            std::size_t owned, double reach, double pairs, int passes,
+                            const Coefficients& coefficients) {
+  const double per_point = std::max(1.0, pairs / double(std::max<std::size_t>(owned, 1)));
+  const std::size_t m = std::clamp<std::size_t>(std::size_t(kProbePairs / per_point), 1, owned);
+  const std::size_t first = (owned - m) / 2;
+  auto start = Clock::now();
+  std::vector<std::uint32_t> counts(first, 0);
+  const std::vector<std::uint32_t> probed = search.count_within(reach, first, m);
+  counts.insert(counts.end(), probed.begin(), probed.end());
+  const std::size_t probe_pairs = std::accumulate(probed.begin(), probed.end(), std::size_t(0));
+  backend.upload_cloud(ordered.positions, ordered.normals);
+  ListStorage storage = backend.begin_lists(first, m, probe_pairs);
+  search.fill_lists(reach, first, m, counts, storage.offsets, storage.indices);
+  backend.end_lists();
+  const double list_seconds = seconds_since(start);
+  start = Clock::now();
+  backend.run_chunk(coefficients);
+  double kernel_seconds = backend.end_pass();  // device time; the caller uploads the cloud again
+  if (!(kernel_seconds > 0)) kernel_seconds = seconds_since(start);
+  const double scale = pairs / double(std::max<std::size_t>(probe_pairs, 1));
+  return scale * (list_seconds + double(passes) * kernel_seconds);
+}
+
+std::string seconds_text(double seconds) {
+  char text[64];
+  if (seconds < 120) {
+    std::snprintf(text, sizeof text, "%.0f s", seconds);
+  } else if (seconds < 7200) {
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  } else {
+    std::snprintf(text, sizeof text, "%.1f h", seconds / 3600);
+  }
+  return text;
 }
 
 }  // namespace
@@ -152,9 +197,26 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   summary.sigma_g = params.sigma_g * scale;
   const double reach = PNF_SUPPORT_IN_SIGMA_F * summary.sigma_f;
   // Counted before any list is allocated, so the memory is known first (SPEC, "Neighbour lists").
-  check_pair_estimate(search, reach, options, summary);
-  std::vector<std::uint32_t> counts = search.count_within(reach);
-  counts.resize(owned);  // halo points get no lists
+  const double pair_estimate = check_pair_estimate(search, reach, options, summary);
+  const pnf_coeffs c = pnf_make_coeffs(summary.sigma_f, summary.sigma_g);
+  const Coefficients coefficients{c.inv_two_sigma_f2, c.inv_two_sigma_g2};
+  // Work that would run past options.max_seconds is refused before the lists are built.
+  const double owned_pairs = pair_estimate * double(owned) / double(cloud.size());
+  const double work = owned_pairs * double(params.iterations + 1);  // the lists cost about one pass
+  if (options.max_seconds > 0 && owned > 0 && work > options.max_seconds * kSlowestPairsPerSecond) {
+    const double seconds =
+        estimate_run_seconds(backend, search, ordered, owned, reach, owned_pairs, params.iterations, coefficients);
+    if (seconds > options.max_seconds) {
+      throw Error(ErrorCode::invalid_argument,
+                  "this run would take about " + seconds_text(seconds) + " on " + summary.device + ": about " +
+                      std::to_string(std::llround(owned_pairs)) + " neighbour pairs (" +
+                      std::to_string(std::llround(owned_pairs / double(owned))) + " per point) times " +
+                      std::to_string(params.iterations) + " passes, timed on a sample; the limit is " +
+                      seconds_text(options.max_seconds) +
+                      ". Lower sigma_f, or raise FilterOptions::max_seconds (pnf filter --max-seconds, 0: no limit)");
+    }
+  }
+  const std::vector<std::uint32_t> counts = search.count_within(reach, 0, owned);  // halo points get no lists
   summary.neighbour_pairs = std::accumulate(counts.begin(), counts.end(), std::size_t(0));
   summary.neighbours_mean = owned > 0 ? double(summary.neighbour_pairs) / double(owned) : 0.0;
   summary.neighbours_max = owned > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
@@ -174,8 +236,6 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
     return summary;
   }
 
-  const pnf_coeffs c = pnf_make_coeffs(summary.sigma_f, summary.sigma_g);
-  const Coefficients coefficients{c.inv_two_sigma_f2, c.inv_two_sigma_g2};
   std::size_t budget = options.memory.budget_bytes;
   std::vector<double> halo(3 * (cloud.size() - owned));
   for (;;) {

@@ -1,5 +1,7 @@
 #include "pnf/normal_filter.hpp"
 
+#include <cmath>
+
 #include "filter_engine.hpp"
 #include "filter_factory.hpp"
 #include "opencl_backend.hpp"
@@ -35,6 +37,9 @@ void FilterOptions::validate() const {
     bad_option("device.backend", std::to_string(int(device.backend)), "must be opencl or reference");
   }
   memory.validate();
+  if (!(std::isfinite(max_seconds) && max_seconds >= 0)) {
+    bad_option("max_seconds", std::to_string(max_seconds), "must be >= 0 and finite (0: no limit)");
+  }
   if (reference_threads < 0) {
     bad_option("reference_threads", std::to_string(reference_threads), "must be >= 0 (0: all cores)");
   }

@@ -20,6 +20,7 @@ struct FilterFlags {
   // Shown in --help as the library's default, never restated.
   double memory_mib = double(MemoryPolicy{}.budget_bytes) / kMiB;
   std::size_t max_pairs = MemoryPolicy{}.max_neighbour_pairs;
+  double max_seconds = FilterOptions{}.max_seconds;
   DeviceFlags device;
   bool ascii = false, quiet = false, in_place = false;
   bool automatic = false;   // --auto: sigma_f, sigma_g and passes from the data
@@ -106,6 +107,7 @@ int run_filter(const FilterFlags& flags) {
     FilterOptions options = flags.device.options();
     options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
     options.memory.max_neighbour_pairs = flags.max_pairs;
+    options.max_seconds = flags.max_seconds;
     options.validate();
     NormalFilter filter(options);
     FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
@@ -157,6 +159,10 @@ Command add_filter_command(CLI::App& parent) {
   app->add_option("--max-pairs", flags->max_pairs,
                   "refuse runs whose neighbour lists would pass this many pairs (estimated before they are built)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app->add_option("--max-seconds", flags->max_seconds,
+                  "refuse runs estimated (by timing this device on a sample) to take longer; 0: no limit")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");

@@ -43,6 +43,13 @@ struct FilterOptions {
   MemoryPolicy memory;
   // Threads for the reference backend; 0 (default) means all cores. >= 0.
   int reference_threads = 0;
+  // A run estimated to take longer than this many seconds (lists and passes, from the pair
+  // estimate and a probe that times this device on a few million pairs) is refused before the
+  // lists are built, with the numbers. Runs under max_seconds * 1e7 pair evaluations are not
+  // probed (no device is slower; at the default that is a few times the 2M-point sigma_f 8 run). 0: no
+  // limit. >= 0, finite. Default 10 minutes: fifty times the paper's 400k-point dog setting on
+  // PoCL with 2 cores, while a neighbourhood spanning a large cloud (hours) is refused in a second.
+  double max_seconds = 600;
 
   // Throws pnf::Error(invalid_argument) naming the first bad field and its value.
   void validate() const;
