@@ -35,10 +35,12 @@ bool aligned(const void* p, std::ptrdiff_t stride, std::size_t item) {
   return reinterpret_cast<std::uintptr_t>(p) % item == 0 && stride % std::ptrdiff_t(item) == 0;
 }
 
-// np.asarray(object), checked to hold real numbers and to have `ndim` dimensions, the last of
-// size `columns` (0: any).
-py::object as_real_array(py::handle object, const char* name, int ndim, const char* expected_shape) {
+// np.asarray(object), checked to hold real numbers and to have `ndim` dimensions (N, 3) or (N,).
+// `*copied` is set when numpy had to build new memory (a list, an object with only __array__).
+py::object as_real_array(py::handle object, const char* name, int ndim, const char* expected_shape, bool* copied) {
   py::object array;
+  *copied = !(PyObject_CheckBuffer(object.ptr()) || py::hasattr(object, "__array_interface__") ||
+              py::hasattr(object, "__array_struct__"));
   try {
     array = numpy().attr("asarray")(object);
   } catch (py::error_already_set& e) {
@@ -77,7 +79,7 @@ void HeldBuffer::release() {
 }
 
 Vec3Input::Vec3Input(py::handle object, const char* name) {
-  array_ = as_real_array(object, name, 2, "an (N, 3)");
+  array_ = as_real_array(object, name, 2, "an (N, 3)", &copied_);
   ScalarType type = ScalarType::float64;
   buffer_.acquire(array_);
   const Py_buffer* b = &buffer_.get();
@@ -104,7 +106,7 @@ Vec3Input::Vec3Input(py::handle object, const char* name) {
 }
 
 ScalarInput::ScalarInput(py::handle object, const char* name) {
-  array_ = as_real_array(object, name, 1, "an (N,)");
+  array_ = as_real_array(object, name, 1, "an (N,)", &copied_);
   ScalarType type = ScalarType::float64;
   buffer_.acquire(array_);
   const Py_buffer* b = &buffer_.get();

@@ -72,7 +72,7 @@ py::list elements(const PointFile& file) {
 
 void bind_point_file(py::module_& m) {
   py::class_<PointFile>(m, "PointFile")
-      .def(py::init(&from_arrays), "points"_a, "normals"_a.none(true), "radii"_a.none(true))
+      .def(py::init(&from_arrays), "points"_a, "normals"_a.none(true) = py::none(), "radii"_a.none(true) = py::none())
       .def("__len__", &PointFile::size)
       .def_property_readonly("points", [](const PointFile& f) { return vec3_array(f.cloud().positions); })
       .def_property(
