@@ -22,11 +22,12 @@ std::uint64_t spread_bits(std::uint64_t v) {
 
 }  // namespace
 
-std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& positions) {
-  const std::size_t n = positions.size();
+std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions) {
+  const std::size_t n = positions.count;
   Vec3 lo = {0, 0, 0}, hi = {0, 0, 0};
-  if (n > 0) lo = hi = positions[0];
-  for (const Vec3& p : positions) {
+  if (n > 0) lo = hi = positions.at(0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 p = positions.at(i);
     for (int k = 0; k < 3; ++k) {
       lo[k] = std::min(lo[k], p[k]);
       hi[k] = std::max(hi[k], p[k]);
@@ -40,7 +41,7 @@ std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& positions) {
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t key = 0;
     for (int k = 0; k < 3; ++k) {
-      auto cell = static_cast<std::uint64_t>((positions[i][k] - lo[k]) * to_cells);
+      auto cell = static_cast<std::uint64_t>((positions.get(i, k) - lo[k]) * to_cells);
       key |= spread_bits(cell) << k;
     }
     keys[i] = key;

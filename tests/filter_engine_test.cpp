@@ -33,12 +33,22 @@ class RefusingBackend : public FilterBackend {
   double end_pass() override { return inner_->end_pass(); }
   std::size_t device_bytes() const override { return 0; }
   std::vector<double> download_normals() override { return inner_->download_normals(); }
+  void replace_normals(const std::vector<double>& n) override { inner_->replace_normals(n); }
   int refusals = 0;
 
  private:
   std::unique_ptr<FilterBackend> inner_;
   std::size_t limit_;
 };
+
+// The engine on a PointCloud, as NormalFilter::run(PointCloud) calls it.
+pnf::FilterResult run_engine(FilterBackend& backend, const pnf::FilterOptions& options, const pnf::PointCloud& cloud,
+                             const pnf::FilterParams& params, const pnf::ProgressCallback& progress) {
+  pnf::FilterResult result;
+  result.normals.resize(cloud.size());
+  result.summary = pnf::detail::run_filter(backend, options, cloud, result.normals, params, progress);
+  return result;
+}
 
 pnf::PointCloud noisy_sphere(int n, unsigned seed) {
   pnf::PointCloud ball = sphere(n, 5.0, seed);
@@ -50,13 +60,13 @@ pnf::PointCloud noisy_sphere(int n, unsigned seed) {
 TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
   pnf::PointCloud ball = noisy_sphere(3000, 1);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
+  options.device = pnf::Device::reference();
   auto whole_backend = pnf::detail::make_reference_backend(1);
-  pnf::FilterResult whole = pnf::detail::run_filter(*whole_backend, options, ball, {}, {});
+  pnf::FilterResult whole = run_engine(*whole_backend, options, ball, {}, {});
   ASSERT_EQ(whole.summary.chunks, 1u);
 
   RefusingBackend refusing(whole.summary.neighbour_pairs * 4 / 5);  // a fifth of the lists at a time
-  pnf::FilterResult chunked = pnf::detail::run_filter(refusing, options, ball, {}, {});
+  pnf::FilterResult chunked = run_engine(refusing, options, ball, {}, {});
   EXPECT_GE(refusing.refusals, 1);
   EXPECT_GE(chunked.summary.allocation_retries, 1);
   EXPECT_GE(chunked.summary.chunks, 5u);
@@ -66,10 +76,10 @@ TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
 TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {
   pnf::PointCloud ball = noisy_sphere(500, 2);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
+  options.device = pnf::Device::reference();
   RefusingBackend refusing(16);
   try {
-    pnf::detail::run_filter(refusing, options, ball, {}, {});
+    run_engine(refusing, options, ball, {}, {});
     FAIL() << "no error";
   } catch (const pnf::Error& e) {
     EXPECT_EQ(e.code(), pnf::ErrorCode::device);
@@ -86,11 +96,11 @@ TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
   params.units = pnf::Units::absolute;
   params.sigma_f = 100;
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  options.max_neighbour_pairs = std::size_t(1) << 32;
+  options.device = pnf::Device::reference();
+  options.memory.max_neighbour_pairs = std::size_t(1) << 32;
   auto backend = pnf::detail::make_reference_backend(0);
   try {
-    pnf::detail::run_filter(*backend, options, ball, params, {});
+    run_engine(*backend, options, ball, params, {});
     FAIL() << "no error";
   } catch (const pnf::Error& e) {
     const std::string what = e.what();
@@ -111,8 +121,8 @@ TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
   }
   auto backend = pnf::detail::make_reference_backend(1);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, line, {}, {});
+  options.device = pnf::Device::reference();
+  pnf::FilterResult r = run_engine(*backend, options, line, {}, {});
   for (std::size_t i = 0; i < line.size(); ++i) {
     EXPECT_NEAR(norm(r.normals[i]), 1.0, 1e-12) << i;
     EXPECT_GT(dot(r.normals[i], line.normals[i]), 0) << i;
@@ -129,8 +139,8 @@ TEST(FilterEngine, ThousandsOfDuplicatesOfOnePointAreFine) {
   }
   auto backend = pnf::detail::make_reference_backend(0);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, cloud, {}, {});
+  options.device = pnf::Device::reference();
+  pnf::FilterResult r = run_engine(*backend, options, cloud, {}, {});
   EXPECT_EQ(r.summary.radius_source, pnf::RadiusSource::estimate);
   EXPECT_NEAR(r.summary.mean_radius, 1.0, 0.25) << "the estimate leaves the duplicates out";
   EXPECT_GE(r.summary.neighbours_max, 5000u);

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "pnf/point_cloud.hpp"
+#include "pnf/cloud_view.hpp"
 
 namespace pnf::detail {
 
@@ -15,9 +15,10 @@ struct BoundingBox {
 };
 
 // Precondition: `positions` is not empty.
-inline BoundingBox bounding_box(const std::vector<Vec3>& positions) {
-  BoundingBox box{positions[0], positions[0]};
-  for (const Vec3& p : positions) {
+inline BoundingBox bounding_box(const Vec3ArrayView& positions) {
+  BoundingBox box{positions.at(0), positions.at(0)};
+  for (std::size_t i = 0; i < positions.count; ++i) {
+    const Vec3 p = positions.at(i);
     for (int axis = 0; axis < 3; ++axis) {
       box.low[axis] = std::min(box.low[axis], p[axis]);
       box.high[axis] = std::max(box.high[axis], p[axis]);

@@ -23,31 +23,38 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The cloud in the order and frame the backends see: along the Morton curve, re-centred on the
-// bounding-box centre in double before anything becomes float (SPEC, "Numerics").
+// bounding-box centre in double before anything becomes float (SPEC, "Numerics"). In a
+// distributed part the owned points come first, each group in curve order.
 struct OrderedCloud {
-  std::vector<std::uint32_t> order;  // order[k] = input index of point k
+  std::vector<std::uint32_t> order;  // order[k] = view index of point k
   std::vector<double> positions;     // N by 3
   std::vector<double> normals;       // N by 3, unit
 };
 
-OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<double>& unit) {
+OrderedCloud order_cloud(const CloudView& cloud, std::size_t owned) {
   OrderedCloud out;
   out.order = morton_order(cloud.positions);
+  if (owned < cloud.size()) {
+    std::stable_partition(out.order.begin(), out.order.end(), [&](std::uint32_t i) { return i < owned; });
+  }
   const Vec3 centre = bounding_box(cloud.positions).centre();
   const std::size_t n = cloud.size();
   out.positions.resize(3 * n);
   out.normals.resize(3 * n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = out.order[k];
+    const Vec3 normal = cloud.normals.at(i);
+    // Normalised here, in double: the only copy of the normals the engine makes.
+    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     for (int c = 0; c < 3; ++c) {
-      out.positions[3 * k + c] = cloud.positions[i][c] - centre[c];
-      out.normals[3 * k + c] = unit[3 * i + c];
+      out.positions[3 * k + c] = cloud.positions.get(i, c) - centre[c];
+      out.normals[3 * k + c] = normal[c] / length;
     }
   }
   return out;
 }
 
-double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, const NeighbourSearch& search,
+double resolve_mean_radius(const CloudView& cloud, const FilterParams& params, const NeighbourSearch& search,
                            RadiusSource& source) {
   if (params.units == Units::absolute) {
     source = RadiusSource::not_used;
@@ -59,7 +66,9 @@ double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, 
   }
   if (cloud.has_radii()) {
     source = RadiusSource::property;
-    return std::accumulate(cloud.radii.begin(), cloud.radii.end(), 0.0) / double(cloud.radii.size());
+    double sum = 0;
+    for (std::size_t i = 0; i < cloud.radii.count; ++i) sum += cloud.radii.get(i);
+    return sum / double(cloud.radii.count);
   }
   source = RadiusSource::estimate;
   double estimate = estimate_mean_radius(search);
@@ -72,17 +81,17 @@ double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, 
   return estimate;
 }
 
-// Mean angle in degrees between two N by 3 arrays of unit vectors (atan2: exact near 0).
-double mean_angle_deg(const std::vector<double>& a, const std::vector<double>& b) {
+// Sum of the angles in degrees between the first `count` rows of two N by 3 arrays of unit
+// vectors (atan2: exact near 0).
+double sum_angle_deg(const std::vector<double>& a, const std::vector<double>& b, std::size_t count) {
   double sum = 0;
-  const std::size_t n = a.size() / 3;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
     const double* u = &a[3 * i];
     const double* v = &b[3 * i];
     const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
     sum += std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
   }
-  return n > 0 ? sum / double(n) * 180.0 / 3.14159265358979323846 : 0.0;
+  return sum * 180.0 / 3.14159265358979323846;
 }
 
 std::string gib(double bytes) {
@@ -92,39 +101,50 @@ std::string gib(double bytes) {
 }
 
 // Refuses, before the exact count, a neighbourhood so wide that the lists would pass
-// options.max_neighbour_pairs (every point neighbouring every other, say): that count alone
+// options.memory.max_neighbour_pairs (every point neighbouring every other, say): that count alone
 // would take hours. A sample of points gives the estimate.
 void check_pair_estimate(const NeighbourSearch& search, double reach, const FilterOptions& options,
                          const FilterSummary& summary) {
   const double estimate = search.estimate_pairs(reach);
-  if (estimate <= double(options.max_neighbour_pairs)) return;
+  if (estimate <= double(options.memory.max_neighbour_pairs)) return;
   const double per_point = estimate / double(search.size());
   throw Error(ErrorCode::invalid_argument,
               "sigma_f = " + std::to_string(summary.sigma_f) + " model units gives about " +
                   std::to_string(std::llround(per_point)) + " neighbours per point, about " +
                   std::to_string(std::llround(estimate)) + " neighbour pairs (" + gib(estimate * 4) +
                   " of lists, as many kernel evaluations per pass), more than the limit of " +
-                  std::to_string(options.max_neighbour_pairs) +
-                  " pairs; lower sigma_f, or raise FilterOptions::max_neighbour_pairs");
+                  std::to_string(options.memory.max_neighbour_pairs) +
+                  " pairs; lower sigma_f, or raise MemoryPolicy::max_neighbour_pairs (pnf filter --max-pairs)");
 }
 
 }  // namespace
 
-FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, const PointCloud& cloud,
-                        const FilterParams& params, const ProgressCallback& progress) {
+FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
+                         MutableVec3ArrayView normals_out, const FilterParams& params,
+                         const ProgressCallback& progress, const DistributedPart* part) {
   params.validate();
   check_cloud(cloud, CloudRequirements::filter());
+  const std::size_t owned = part ? part->owned : cloud.size();
+  if (owned > cloud.size()) {
+    throw Error(ErrorCode::invalid_argument, "a distributed part owns " + std::to_string(owned) + " of " +
+                                                 std::to_string(cloud.size()) + " points");
+  }
+  if (normals_out.count != owned) {
+    throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
+                                                 " rows for " + std::to_string(owned) + " points");
+  }
+  if (part && params.units == Units::radius && !(params.mean_radius > 0)) {
+    throw Error(ErrorCode::invalid_argument, "a distributed part needs the mean radius given (params.mean_radius)");
+  }
 
-  FilterResult result;
-  FilterSummary& summary = result.summary;
-  summary.points = cloud.size();
-  summary.backend = to_string(options.backend);
+  FilterSummary summary;
+  summary.points = owned;
+  summary.backend = to_string(options.device.backend);
   summary.device = backend.description();
-  if (cloud.size() == 0) return result;
+  if (cloud.size() == 0) return summary;
 
-  const std::vector<double> unit = unit_normals(cloud.normals);
   auto start = Clock::now();
-  OrderedCloud ordered = order_cloud(cloud, unit);
+  OrderedCloud ordered = order_cloud(cloud, owned);
   NeighbourSearch search(ordered.positions.data(), cloud.size());
   summary.mean_radius = resolve_mean_radius(cloud, params, search, summary.radius_source);
   const double scale = params.units == Units::radius ? summary.mean_radius : 1.0;
@@ -133,23 +153,34 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   const double reach = PNF_SUPPORT_IN_SIGMA_F * summary.sigma_f;
   // Counted before any list is allocated, so the memory is known first (SPEC, "Neighbour lists").
   check_pair_estimate(search, reach, options, summary);
-  const std::vector<std::uint32_t> counts = search.count_within(reach);
+  std::vector<std::uint32_t> counts = search.count_within(reach);
+  counts.resize(owned);  // halo points get no lists
   summary.neighbour_pairs = std::accumulate(counts.begin(), counts.end(), std::size_t(0));
-  summary.neighbours_mean = double(summary.neighbour_pairs) / double(cloud.size());
-  summary.neighbours_max = *std::max_element(counts.begin(), counts.end());
+  summary.neighbours_mean = owned > 0 ? double(summary.neighbour_pairs) / double(owned) : 0.0;
+  summary.neighbours_max = owned > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
   summary.neighbour_seconds = seconds_since(start);
 
+  // Writes the ordered normals' owned rows into the caller's buffer, re-normalised in double
+  // (float32 unit vectors are unit only to about 1e-7).
+  auto write_out = [&](const std::vector<double>& normals) {
+    for (std::size_t k = 0; k < owned; ++k) {
+      const double* n = &normals[3 * k];
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      normals_out.set(ordered.order[k], {n[0] / len, n[1] / len, n[2] / len});
+    }
+  };
   if (params.iterations == 0) {
-    result.normals.resize(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) result.normals[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
-    return result;
+    write_out(ordered.normals);
+    return summary;
   }
 
   const pnf_coeffs c = pnf_make_coeffs(summary.sigma_f, summary.sigma_g);
   const Coefficients coefficients{c.inv_two_sigma_f2, c.inv_two_sigma_g2};
-  std::size_t budget = options.memory_budget_bytes;
+  std::size_t budget = options.memory.budget_bytes;
+  std::vector<double> halo(3 * (cloud.size() - owned));
   for (;;) {
-    const std::vector<Chunk> chunks = plan_chunks(counts, budget, backend.max_list_bytes());
+    const std::vector<Chunk> chunks = owned > 0 ? plan_chunks(counts, budget, backend.max_list_bytes())
+                                                : std::vector<Chunk>{};
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
@@ -187,14 +218,30 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());
+        std::vector<double> current;
+        if (part) {
+          // The halo's rows of the new normals were not computed here: their owners send them.
+          current = backend.download_normals();
+          std::vector<double> mine(current.size() - halo.size());
+          for (std::size_t k = 0; k < owned; ++k) {
+            for (int c = 0; c < 3; ++c) mine[3 * ordered.order[k] + c] = current[3 * k + c];
+          }
+          part->exchange_halo(mine, halo);
+          for (std::size_t k = owned; k < cloud.size(); ++k) {
+            for (int c = 0; c < 3; ++c) current[3 * k + c] = halo[3 * (ordered.order[k] - owned) + c];
+          }
+          backend.replace_normals(current);
+        }
         summary.pass_seconds.push_back(seconds_since(pass_start));
         summary.passes_run = pass;
         if (progress && !progress(PassProgress{pass, params.iterations, summary.pass_seconds.back()})) {
           throw Error(ErrorCode::cancelled, "cancelled after pass " + std::to_string(pass));
         }
         if (params.stop_change_deg > 0) {
-          std::vector<double> current = backend.download_normals();
-          summary.mean_change_deg.push_back(mean_angle_deg(previous, current));
+          if (!part) current = backend.download_normals();
+          double totals[2] = {sum_angle_deg(previous, current, owned), double(owned)};
+          if (part && part->sum_over_processes) part->sum_over_processes(totals, 2);
+          summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / totals[1] : 0.0);
           if (summary.mean_change_deg.back() < params.stop_change_deg) break;
           previous.swap(current);
         }
@@ -211,15 +258,8 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   }
 
   summary.device_bytes = backend.device_bytes();
-  const std::vector<double> out = backend.download_normals();
-  result.normals.resize(cloud.size());
-  for (std::size_t k = 0; k < cloud.size(); ++k) {
-    // Re-normalised in double: float32 unit vectors are unit only to about 1e-7.
-    Vec3 n = {out[3 * k], out[3 * k + 1], out[3 * k + 2]};
-    double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    result.normals[ordered.order[k]] = {n[0] / len, n[1] / len, n[2] / len};
-  }
-  return result;
+  write_out(backend.download_normals());
+  return summary;
 }
 
 }  // namespace pnf::detail
