@@ -1,7 +1,7 @@
 """Open3D and pnf: filter an Open3D point cloud's normals in place, with no copies.
 
-Open3D's points and normals are (N, 3) float64 buffers that pnf reads where they are; the new
-normals are written back into the cloud's own normal buffer.
+Open3D's points and normals are (N, 3) float64 buffers that pnf reads where they are; with
+out=cloud.normals the new normals are written straight back into the cloud's own buffer.
 
     python python/examples/open3d_interop.py [IN.ply OUT.ply]
 
@@ -23,8 +23,7 @@ def improve_open3d_normals(cloud: o3d.geometry.PointCloud, **filter_args) -> o3d
     cloud.estimate_normals() and orient_normals_consistent_tangent_plane(), or pnf's)."""
     if not cloud.has_normals():
         cloud.normals = o3d.utility.Vector3dVector(pnf.estimate_normals(cloud.points))
-    better = pnf.improve_normals(cloud.points, cloud.normals, **filter_args)  # read in place
-    np.asarray(cloud.normals)[:] = better  # a numpy view of Open3D's buffer
+    pnf.improve_normals(cloud.points, cloud.normals, out=cloud.normals, **filter_args)
     return cloud
 
 

@@ -60,7 +60,8 @@ def improve_normals(
     progress: Optional[Callable[[int, int, float], Optional[bool]]] = None,
     radii: Optional[ArrayLike] = None,
     stop_change_deg: Optional[float] = None,
-) -> np.ndarray:
+    out: Optional[ArrayLike] = None,
+) -> Any:
     """Improves the normals of a point cloud; returns the new (N, 3) float64 unit normals.
 
     points, normals: (N, 3) arrays (float32 or float64 read in place, see the module's doc);
@@ -83,12 +84,15 @@ def improve_normals(
     radii: optional (N,) surfel radii.
     stop_change_deg: end the passes once the normals change less than this on average
         (degrees); None: off, or the rule's 0.01 with auto=True.
+    out: an (N, 3) float32 or float64 array (or buffer, such as an Open3D cloud's normals) to
+        write the result into instead of a new array, and return; it must be writable and may
+        be `normals` itself (they are read before anything is written), not `points`.
 
     Raises ValueError (bad parameters or data), DeviceError, Cancelled, KeyboardInterrupt.
     """
     return _pnf.improve_normals(
         points, normals, float(sigma_f), float(sigma_g), int(iterations), units, mean_radius, bool(auto),
-        device, backend, progress, radii, stop_change_deg,
+        device, backend, progress, radii, stop_change_deg, out,
     )
 
 

@@ -67,9 +67,10 @@ py::object float64_copy(const py::object& array) {
 
 }  // namespace
 
-void HeldBuffer::acquire(py::handle object) {
+void HeldBuffer::acquire(py::handle object, bool writable) {
   release();
-  if (PyObject_GetBuffer(object.ptr(), &buffer_, PyBUF_STRIDES | PyBUF_FORMAT) != 0) throw py::error_already_set();
+  const int flags = PyBUF_STRIDES | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0);
+  if (PyObject_GetBuffer(object.ptr(), &buffer_, flags) != 0) throw py::error_already_set();
   held_ = true;
 }
 
@@ -122,6 +123,29 @@ ScalarInput::ScalarInput(py::handle object, const char* name) {
     type = ScalarType::float64;
   }
   view_ = ScalarArrayView(n > 0 ? b->buf : nullptr, n, type, n > 1 ? b->strides[0] : 0);
+}
+
+Vec3InOut::Vec3InOut(py::handle object, const char* name) {
+  bool copied = false;
+  array_ = as_real_array(object, name, 2, "an (N, 3)", &copied);
+  const std::string what = std::string(name) + " must be a writable, aligned float32 or float64 array of its own memory";
+  if (copied) throw Error(ErrorCode::invalid_argument, what + " (got " + py::str(py::type::of(object)).cast<std::string>() + ")");
+  try {
+    buffer_.acquire(array_, true);
+  } catch (py::error_already_set& e) {
+    throw Error(ErrorCode::invalid_argument, what + ": " + e.what());
+  }
+  const Py_buffer& b = buffer_.get();
+  const std::size_t n = std::size_t(b.shape[0]);
+  ScalarType type = ScalarType::float64;
+  const bool usable = direct_type(b, &type) && !(n > 1 && b.strides[0] == 0) && b.strides[1] != 0 &&
+                      aligned(b.buf, b.strides[0], std::size_t(b.itemsize)) &&
+                      aligned(b.buf, b.strides[1], std::size_t(b.itemsize));
+  if (!usable) {
+    throw Error(ErrorCode::invalid_argument, what + ", got dtype " + py::str(array_.attr("dtype")).cast<std::string>() +
+                                                 " with strides " + py::str(array_.attr("strides")).cast<std::string>());
+  }
+  view_ = MutableVec3ArrayView(n > 0 ? b.buf : nullptr, n, type, n > 1 ? b.strides[0] : 0, b.strides[1]);
 }
 
 Vec3Output new_vec3_array(std::size_t n) {

@@ -29,8 +29,9 @@ class HeldBuffer {
   HeldBuffer(const HeldBuffer&) = delete;
   HeldBuffer& operator=(const HeldBuffer&) = delete;
   ~HeldBuffer() { release(); }
-  // Asks `object` for a strided buffer with its format; throws py::error_already_set on failure.
-  void acquire(py::handle object);
+  // Asks `object` for a strided buffer with its format (and writable when `writable`); throws
+  // py::error_already_set on failure.
+  void acquire(py::handle object, bool writable = false);
   void release();
   const Py_buffer& get() const { return buffer_; }
 
@@ -77,6 +78,25 @@ class ScalarInput {
   HeldBuffer buffer_;
   ScalarArrayView view_;
   bool copied_ = false;
+};
+
+// An (N, 3) float32 or float64 array given to be written (an `out=` argument): it must be
+// writable, native, aligned and without zero strides, since writing into a copy would be lost;
+// anything else raises ValueError.
+class Vec3InOut {
+ public:
+  Vec3InOut(py::handle object, const char* name);
+  Vec3InOut(const Vec3InOut&) = delete;
+  Vec3InOut& operator=(const Vec3InOut&) = delete;
+
+  const MutableVec3ArrayView& view() const { return view_; }
+  std::size_t size() const { return view_.count; }
+  const py::object& array() const { return array_; }
+
+ private:
+  py::object array_;
+  HeldBuffer buffer_;
+  MutableVec3ArrayView view_;
 };
 
 // A new C-ordered (n, 3) float64 numpy array and a view that writes into it.

@@ -32,16 +32,23 @@ Units parse_units(const std::string& units) {
   throw Error(ErrorCode::invalid_argument, "units must be \"radius\" or \"absolute\", got \"" + units + "\"");
 }
 
+// backend "reference" is the reference; "opencl" takes `device` as Device::parse reads it
+// ("gpu", "pocl", "1:0", "opencl:cpu", even "reference"), None meaning PNF_DEVICE or the default
+// rule. The same mapping as the CLI's --backend and --device.
 FilterOptions filter_options(const std::optional<std::string>& device, const std::string& backend) {
   FilterOptions options;
-  if (backend == "opencl") {
-    options.backend = Backend::opencl;
-  } else if (backend == "reference") {
-    options.backend = Backend::reference;
+  if (backend == "reference") {
+    if (device && Device::parse(*device) != Device::reference()) {
+      throw Error(ErrorCode::invalid_argument, "backend=\"reference\" runs on the CPU; device=\"" + *device +
+                                                   "\" needs backend=\"opencl\"");
+    }
+    options.device = Device::reference();
+  } else if (backend == "opencl") {
+    options.device = Device::parse(device.value_or(""));
   } else {
     throw Error(ErrorCode::invalid_argument, "backend must be \"opencl\" or \"reference\", got \"" + backend + "\"");
   }
-  options.device = device.value_or("");
+  options.validate();
   return options;
 }
 
@@ -86,7 +93,8 @@ const FilterParams kDefaultParams{};
 py::object improve_normals(py::handle points, py::handle normals, double sigma_f, double sigma_g, int iterations,
                            const std::string& units, std::optional<double> mean_radius, bool automatic,
                            const std::optional<std::string>& device, const std::string& backend,
-                           const py::object& progress, py::handle radii, std::optional<double> stop_change_deg) {
+                           const py::object& progress, py::handle radii, std::optional<double> stop_change_deg,
+                           py::handle out_array) {
   FilterParams params;
   params.sigma_f = sigma_f;
   params.sigma_g = sigma_g;
@@ -116,21 +124,34 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
     check_same_size("radii", r->size(), "points", p.size());
   }
   const CloudView view(p.view(), n.view(), r ? r->view() : ScalarArrayView{});
-  Vec3Output out = new_vec3_array(p.size());
+  // The result goes into `out` when given (it may be the normals themselves: the library reads
+  // them before it writes), else into a new array.
+  Vec3Output out;
+  std::optional<Vec3InOut> given_out;
+  if (!out_array.is_none()) {
+    given_out.emplace(out_array, "out");
+    check_same_size("out", given_out->size(), "points", p.size());
+    if (py::module_::import("numpy").attr("may_share_memory")(given_out->array(), p.array()).cast<bool>()) {
+      throw Error(ErrorCode::invalid_argument, "out must not overlap points");
+    }
+    out.array = py::reinterpret_borrow<py::object>(out_array);
+    out.view = given_out->view();
+  } else {
+    out = new_vec3_array(p.size());
+  }
 
   std::exception_ptr pending;
   const ProgressCallback callback = python_progress(progress, pending);
   run_released(pending, [&] {
-    // TEMPORARY until the view overload of the filter lands on main: a PointCloud copy.
-    const PointCloud cloud = to_point_cloud(view);
     FilterParams run_params = params;
     if (automatic) {
-      run_params = choose_filter_params(cloud).params;
+      // TEMPORARY until choose_filter_params(CloudView) lands on main: a PointCloud copy.
+      run_params = choose_filter_params(to_point_cloud(view)).params;
     }
     if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
+    // Reads the caller's arrays in place and writes straight into the result array.
     NormalFilter filter(options);
-    const FilterResult result = filter.run(cloud, run_params, callback);
-    for (std::size_t i = 0; i < result.normals.size(); ++i) out.view.set(i, result.normals[i]);
+    filter.run(view, out.view, run_params, callback);
   });
   return out.array;
 }
@@ -298,7 +319,7 @@ PYBIND11_MODULE(_pnf, m) {
   // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
-        "radii"_a.none(true), "stop_change_deg"_a.none(true));
+        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true));
   m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true));
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(

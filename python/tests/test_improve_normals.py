@@ -131,6 +131,38 @@ def test_no_copy_of_a_large_input():
     assert peak < 1.2 * out.nbytes, f"peak traced memory {peak / 1e6:.1f} MB: an input was copied"
 
 
+def test_out_receives_the_result_in_place(cube):
+    points, normals, _ = cube
+    expected = pnf.improve_normals(points, normals, backend="reference")
+    out = np.zeros((len(points), 3), np.float32)
+    assert pnf.improve_normals(points, normals, backend="reference", out=out) is out
+    np.testing.assert_array_equal(out, expected.astype(np.float32))
+    wide = np.zeros((len(points), 6))
+    pnf.improve_normals(points, normals, backend="reference", out=wide[:, 3:])
+    np.testing.assert_array_equal(wide[:, 3:], expected)
+    assert (wide[:, :3] == 0).all()
+    own = normals.copy()  # the normals themselves: read before written
+    pnf.improve_normals(points, own, backend="reference", out=own)
+    np.testing.assert_array_equal(own, expected)
+
+
+def test_bad_out_raises_value_error(cube):
+    points, normals, _ = cube
+    for bad, match in [
+        (np.zeros((len(points), 3), np.int32), "out must be"),
+        (np.zeros((len(points) - 1, 3)), "out has"),
+        (np.zeros((len(points), 3)).tolist(), "out must be"),
+        (np.broadcast_to(np.zeros(3), (len(points), 3)), "out must be"),
+        (points, "overlap points"),
+    ]:
+        with pytest.raises(ValueError, match=match):
+            pnf.improve_normals(points, normals, backend="reference", out=bad)
+    frozen = np.zeros((len(points), 3))
+    frozen.flags.writeable = False
+    with pytest.raises(ValueError, match="writable"):
+        pnf.improve_normals(points, normals, backend="reference", out=frozen)
+
+
 def test_progress_is_called_after_each_pass(cube):
     points, normals, _ = cube
     calls = []

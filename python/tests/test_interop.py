@@ -29,8 +29,10 @@ def test_open3d_round_trip_without_copies():
     before = example.mean_error_deg(np.asarray(cloud.normals), truth)
     expected = pnf.improve_normals(np.asarray(cloud.points).copy(), np.asarray(cloud.normals).copy(),
                                    backend="reference")
+    normals_address = np.asarray(cloud.normals).ctypes.data
     example.improve_open3d_normals(cloud, backend="reference")
     assert isinstance(cloud, o3d.geometry.PointCloud)
+    assert np.asarray(cloud.normals).ctypes.data == normals_address  # written in place
     np.testing.assert_array_equal(np.asarray(cloud.normals), expected)
     assert example.mean_error_deg(np.asarray(cloud.normals), truth) < 0.5 * before
 
