@@ -6,6 +6,9 @@ Those are read in place, without a copy. Anything else numpy can turn into real 
 integer or float16 arrays, byte-swapped, unaligned or broadcast arrays) is first copied into a
 new float64 array. Results are new C-ordered float64 arrays (uint8 for images).
 
+improve_normals(..., out=array) writes the result into an array of the caller's (for example
+an Open3D cloud's own normals) instead of a new one.
+
 The GIL is released while the library runs, so other Python threads go on; the arrays passed in
 must not be changed by them meanwhile.
 
@@ -76,9 +79,12 @@ def improve_normals(
     auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto`` (see
         choose_params); then sigma_f, sigma_g, iterations, units and mean_radius must be left
         at their defaults.
-    device: OpenCL device selector ("cpu", "gpu", "P:D", or part of a name such as "pocl");
-        None: the PNF_DEVICE variable, else the first GPU, else the first CPU.
-    backend: "opencl" (float32 kernels) or "reference" (double-precision C++, no OpenCL needed).
+    device: where to run, as pnf::Device::parse reads it: an OpenCL selector ("cpu", "gpu",
+        "accelerator", "P:D" as devices() shows, or part of a name such as "pocl"), the same
+        prefixed ("opencl:gpu"), or "reference"; None: the PNF_DEVICE variable, else the first
+        GPU, else the first CPU.
+    backend: "opencl" (float32 kernels, on `device`) or "reference" (double-precision C++ on
+        all cores, no OpenCL needed; `device` must then be None or "reference").
     progress: called as progress(pass_done, passes, seconds) after each pass; returning False
         cancels the run (Cancelled is raised). Ctrl-C also cancels between passes.
     radii: optional (N,) surfel radii.
