@@ -49,7 +49,8 @@ py::object as_real_array(py::handle object, const char* name, int ndim, const ch
   }
   const std::string kind = array.attr("dtype").attr("kind").cast<std::string>();
   if (kind.size() != 1 || !real_kind(kind[0])) {
-    throw Error(ErrorCode::invalid_argument, std::string(name) + " must hold real numbers (float32 or float64), got dtype " +
+    throw Error(ErrorCode::invalid_argument, std::string(name) +
+                                                 " must hold real numbers (float32 or float64), got dtype " +
                                                  py::str(array.attr("dtype")).cast<std::string>());
   }
   const auto shape = array.attr("shape").cast<py::tuple>();
@@ -128,8 +129,10 @@ ScalarInput::ScalarInput(py::handle object, const char* name) {
 Vec3InOut::Vec3InOut(py::handle object, const char* name) {
   bool copied = false;
   array_ = as_real_array(object, name, 2, "an (N, 3)", &copied);
-  const std::string what = std::string(name) + " must be a writable, aligned float32 or float64 array of its own memory";
-  if (copied) throw Error(ErrorCode::invalid_argument, what + " (got " + py::str(py::type::of(object)).cast<std::string>() + ")");
+  const std::string what =
+      std::string(name) + " must be a writable, aligned float32 or float64 array of its own memory";
+  if (copied)
+    throw Error(ErrorCode::invalid_argument, what + " (got " + py::str(py::type::of(object)).cast<std::string>() + ")");
   try {
     buffer_.acquire(array_, true);
   } catch (py::error_already_set& e) {
@@ -143,7 +146,8 @@ Vec3InOut::Vec3InOut(py::handle object, const char* name) {
                       aligned(b.buf, b.strides[1], std::size_t(b.itemsize));
   if (!usable) {
     throw Error(ErrorCode::invalid_argument, what + ", got dtype " + py::str(array_.attr("dtype")).cast<std::string>() +
-                                                 " with strides " + py::str(array_.attr("strides")).cast<std::string>());
+                                                 " with strides " +
+                                                 py::str(array_.attr("strides")).cast<std::string>());
   }
   view_ = MutableVec3ArrayView(n > 0 ? b.buf : nullptr, n, type, n > 1 ? b.strides[0] : 0, b.strides[1]);
 }

@@ -3,7 +3,6 @@
 //
 // Every call converts its arrays with the GIL held (arrays.hpp says which are read in place),
 // then releases the GIL while the library runs.
-#include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
 #include <exception>
@@ -39,8 +38,8 @@ FilterOptions filter_options(const std::optional<std::string>& device, const std
   FilterOptions options;
   if (backend == "reference") {
     if (device && Device::parse(*device) != Device::reference()) {
-      throw Error(ErrorCode::invalid_argument, "backend=\"reference\" runs on the CPU; device=\"" + *device +
-                                                   "\" needs backend=\"opencl\"");
+      throw Error(ErrorCode::invalid_argument,
+                  "backend=\"reference\" runs on the CPU; device=\"" + *device + "\" needs backend=\"opencl\"");
     }
     options.device = Device::reference();
   } else if (backend == "opencl") {
@@ -229,8 +228,8 @@ py::object render(py::handle points, py::handle normals, py::handle radii, int w
   {
     py::gil_scoped_release nogil;
     // TEMPORARY until a view overload of render_points exists: a PointCloud copy.
-    const Image drawn = render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{},
-                                      options);
+    const Image drawn =
+        render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{}, options);
     std::copy(drawn.rgb.begin(), drawn.rgb.end(), pixels);
   }
   return image;
@@ -242,8 +241,8 @@ py::dict view_info(py::handle array) {
   Vec3Input input(array, "array");
   const Vec3ArrayView& v = input.view();
   return py::dict("data"_a = reinterpret_cast<std::uintptr_t>(v.data), "count"_a = v.count,
-                  "dtype"_a = to_string(v.type), "row_stride"_a = v.row_step(), "component_stride"_a = v.component_step(),
-                  "copied"_a = input.copied());
+                  "dtype"_a = to_string(v.type), "row_stride"_a = v.row_step(),
+                  "component_stride"_a = v.component_step(), "copied"_a = input.copied());
 }
 
 void bind_results(py::module_& m) {
@@ -260,8 +259,9 @@ void bind_results(py::module_& m) {
       .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
       .def_property_readonly("position_noise_spacings", &DataEstimate::position_noise_spacings)
       .def("__repr__", [](const DataEstimate& e) {
-        return py::str("DataEstimate(points={}, spacing={:.6g}, position_noise={:.4g}, normal_noise_deg={:.3g}, "
-                       "feature_share={:.3f}, curved_share={:.3f})")
+        return py::str(
+                   "DataEstimate(points={}, spacing={:.6g}, position_noise={:.4g}, normal_noise_deg={:.3g}, "
+                   "feature_share={:.3f}, curved_share={:.3f})")
             .format(e.points, e.spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
       });
   py::class_<AutoChoice>(m, "AutoChoice", "The parameters `pnf filter --auto` picks, and what it measured.")
@@ -293,10 +293,9 @@ void bind_results(py::module_& m) {
       .def_readonly("version", &DeviceInfo::version)
       .def_readonly("driver_version", &DeviceInfo::driver_version)
       .def_readonly("selected", &DeviceInfo::selected)
-      .def_property_readonly("selector",
-                             [](const DeviceInfo& d) {
-                               return std::to_string(d.platform_index) + ":" + std::to_string(d.device_index);
-                             })
+      .def_property_readonly(
+          "selector",
+          [](const DeviceInfo& d) { return std::to_string(d.platform_index) + ":" + std::to_string(d.device_index); })
       .def("__repr__", [](const DeviceInfo& d) {
         return py::str("DeviceInfo({}:{} {} '{}' on '{}'{})")
             .format(d.platform_index, d.device_index, d.type, d.device_name, d.platform_name,
