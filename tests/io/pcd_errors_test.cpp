@@ -57,8 +57,7 @@ TEST(PcdErrors, HeaderCountsThatDisagree) {
                    {"header line 4", "SIZE has 2 entries but FIELDS names 3 fields"});
   expect_pcd_error("type.pcd", header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F F\nWIDTH 1\nDATA ascii\n"),
                    {"header line 5", "TYPE has 4 entries but FIELDS names 3"});
-  expect_pcd_error("count.pcd",
-                   header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1\nWIDTH 1\nDATA ascii\n"),
+  expect_pcd_error("count.pcd", header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1\nWIDTH 1\nDATA ascii\n"),
                    {"header line 6", "COUNT has 2 entries"});
   expect_pcd_error("before.pcd", header_lines("SIZE 4 4 4\nFIELDS x y z\nDATA ascii\n"), {"SIZE before FIELDS"});
   expect_pcd_error("height.pcd", header_lines("FIELDS x y z\nHEIGHT 3\nPOINTS 3\nDATA ascii\n"),
@@ -110,13 +109,16 @@ TEST(PcdErrors, TruncatedAndOverlongData) {
 
 TEST(PcdErrors, AbsurdCountsAreRefusedBeforeAllocating) {
   // 10^15 points would be 12 PB: refused from the file size, not by a failed allocation.
-  expect_pcd_error("huge.pcd", header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1000000000000000\n"
-                                            "HEIGHT 1\nPOINTS 1000000000000000\nDATA binary\n") + xyz_rows(2),
+  expect_pcd_error("huge.pcd",
+                   header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1000000000000000\n"
+                                "HEIGHT 1\nPOINTS 1000000000000000\nDATA binary\n") +
+                       xyz_rows(2),
                    {"point 2", "1000000000000000 points of 12 bytes but only 24 bytes follow DATA"});
   expect_pcd_error("hugea.pcd", header_lines("FIELDS x y z\nWIDTH 1000000000000000\nDATA ascii\n") + "1 2 3\n",
                    {"1000000000000000 points of 3 values, but only 6 bytes of text follow DATA"});
-  expect_pcd_error("hugec.pcd", header_lines("FIELDS x y z\nWIDTH 1000000000000000\nDATA binary_compressed\n") +
-                                    test::u32_le(4) + test::u32_le(12) + "abcd",
+  expect_pcd_error("hugec.pcd",
+                   header_lines("FIELDS x y z\nWIDTH 1000000000000000\nDATA binary_compressed\n") + test::u32_le(4) +
+                       test::u32_le(12) + "abcd",
                    {"more than the 4 GiB"});
   expect_pcd_error("count.pcd", header_lines("FIELDS x y z f\nCOUNT 1 1 1 4000000000\nWIDTH 1\nDATA ascii\n"),
                    {"COUNT of field 'f' is 4000000000 (expected 1 to 65536)"});
@@ -144,10 +146,10 @@ TEST(PcdErrors, CompressedBlocksThatDoNotDecompressToTheDeclaredSize) {
   const std::string garbage = "\x20\x05";  // copy 3 bytes from 6 before the start
   expect_pcd_error("garbage.pcd", header + test::u32_le(garbage.size()) + test::u32_le(24) + garbage,
                    {"is not valid LZF data"});
-  expect_pcd_error("ratio.pcd",
-                   test::test_pcd_header(kXyz, 1000, 1, "binary_compressed") + test::u32_le(4) +
-                       test::u32_le(12000) + "abcd",
-                   {"the compressed block of 4 bytes cannot hold the declared 12000 bytes"});
+  expect_pcd_error(
+      "ratio.pcd",
+      test::test_pcd_header(kXyz, 1000, 1, "binary_compressed") + test::u32_le(4) + test::u32_le(12000) + "abcd",
+      {"the compressed block of 4 bytes cannot hold the declared 12000 bytes"});
 }
 
 TEST(PcdErrors, BadValuesNameThePoint) {

@@ -107,8 +107,8 @@ TEST(PcdFile, EveryTypeAndDataKindReadsAndWritesBackBitForBit) {
 
 TEST(PcdFile, BinaryOutputIsTheInputFileByteForByte) {
   TempDir dir;
-  const std::vector<TestField> fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}, {"_", 'U', 1, 4},
-                                         {"rgba", 'U', 4, 1}};
+  const std::vector<TestField> fields = {
+      {"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}, {"_", 'U', 1, 4}, {"rgba", 'U', 4, 1}};
   const std::string rows = random_rows(fields, 6, 3);  // padding bytes random: binary keeps them
   const std::string text = test::test_pcd_header(fields, 3, 2, "binary", "1 2 3 0.5 0.5 0.5 0.5") + rows;
   test::write_file(dir / "in.pcd", text);
@@ -141,12 +141,13 @@ TEST(PcdFile, PaddingIsLeftOutOfCompressedAndAsciiDataAsPclDoes) {
 
 TEST(PcdFile, HeaderIsKeptAndDataDefaultsToTheInputs) {
   TempDir dir;
-  const std::vector<TestField> fields = {{"z", 'F', 4, 1}, {"intensity", 'U', 2, 1}, {"y", 'F', 8, 1},
-                                         {"x", 'F', 4, 1}};
+  const std::vector<TestField> fields = {
+      {"z", 'F', 4, 1}, {"intensity", 'U', 2, 1}, {"y", 'F', 8, 1}, {"x", 'F', 4, 1}};
   const std::string rows = random_rows(fields, 6, 9);
-  const std::string header = "# .PCD v0.7 - Point Cloud Data file format\n# scanner: lidar 7\nVERSION 0.7\n"
-                             "FIELDS z intensity y x\nSIZE 4 2 8 4\nTYPE F U F F\nCOUNT 1 1 1 1\nWIDTH 3\nHEIGHT 2\n"
-                             "VIEWPOINT 0.25 -1.5 3 0.7071 0 0.7071 0\nPOINTS 6\nDATA binary_compressed\n";
+  const std::string header =
+      "# .PCD v0.7 - Point Cloud Data file format\n# scanner: lidar 7\nVERSION 0.7\n"
+      "FIELDS z intensity y x\nSIZE 4 2 8 4\nTYPE F U F F\nCOUNT 1 1 1 1\nWIDTH 3\nHEIGHT 2\n"
+      "VIEWPOINT 0.25 -1.5 3 0.7071 0 0.7071 0\nPOINTS 6\nDATA binary_compressed\n";
   test::write_file(dir / "in.pcd", header + test::test_compressed_body(fields, rows));
   const PointFile file = read_point_file((dir / "in.pcd").string());
   const PcdHeader& in = *file.pcd_header();
@@ -277,16 +278,18 @@ TEST(PcdFile, NormalsAreAddedOrReplacedAndCurvatureKept) {
   PointFile added = read_point_file((dir / "bare.pcd").string());
   added.set_normals({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}});
   write_point_file((dir / "added.pcd").string(), added);
-  EXPECT_NE(test::read_file(dir / "added.pcd").find("FIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\n"
-                                                     "TYPE F F F F F F\n"),
+  EXPECT_NE(test::read_file(dir / "added.pcd")
+                .find("FIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\n"
+                      "TYPE F F F F F F\n"),
             std::string::npos);
 }
 
 TEST(PcdFile, Version06AndDefaultsAreRead) {
   TempDir dir;
   // v0.6: no VIEWPOINT, here also no COUNT, no HEIGHT, and COLUMNS for FIELDS.
-  test::write_file(dir / "old.pcd", "# .PCD v.6 - Point Cloud Data file format\nVERSION .6\nCOLUMNS x y z\n"
-                                    "SIZE 4 4 4\nTYPE F F F\nWIDTH 2\nPOINTS 2\nDATA ascii\n1 2 3\n4 5 6\n");
+  test::write_file(dir / "old.pcd",
+                   "# .PCD v.6 - Point Cloud Data file format\nVERSION .6\nCOLUMNS x y z\n"
+                   "SIZE 4 4 4\nTYPE F F F\nWIDTH 2\nPOINTS 2\nDATA ascii\n1 2 3\n4 5 6\n");
   const PointFile file = read_point_file((dir / "old.pcd").string());
   EXPECT_EQ(file.pcd_header()->version, ".6");
   EXPECT_EQ(file.pcd_header()->height, 1u);
@@ -316,8 +319,9 @@ TEST(PcdFile, OtherFormatsConvertToAndFromPcd) {
   EXPECT_EQ(read_point_file((dir / "back.ply").string()).cloud().normals, cloud.normals);
 
   // A PLY list cannot go to PCD, a 64-bit integer cannot go to PLY; nothing is written.
-  test::write_file(dir / "list.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                                     "property float z\nproperty list uchar int ids\nend_header\n0 0 0 2 5 6\n");
+  test::write_file(dir / "list.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                   "property float z\nproperty list uchar int ids\nend_header\n0 0 0 2 5 6\n");
   try {
     write_point_file((dir / "list.pcd").string(), read_point_file((dir / "list.ply").string()));
     ADD_FAILURE() << "expected an error";

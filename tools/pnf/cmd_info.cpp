@@ -29,8 +29,8 @@ void print_pcd(const PcdHeader& pcd) {
   else
     std::printf("  organised    no (WIDTH %zu, HEIGHT 1)\n", pcd.width);
   const auto& v = pcd.viewpoint;
-  std::printf("  viewpoint    origin %.6g %.6g %.6g, orientation (w x y z) %.6g %.6g %.6g %.6g\n", v[0], v[1], v[2], v[3],
-              v[4], v[5], v[6]);
+  std::printf("  viewpoint    origin %.6g %.6g %.6g, orientation (w x y z) %.6g %.6g %.6g %.6g\n", v[0], v[1], v[2],
+              v[3], v[4], v[5], v[6]);
 }
 
 int run_info(const std::string& path) {

@@ -62,8 +62,8 @@ struct PcdHeader {
   std::size_t height = 1;             // rows; 1 for an unorganised cloud
   // VIEWPOINT: the sensor's origin tx ty tz (model units) and orientation qw qx qy qz.
   std::array<double, 7> viewpoint = {0, 0, 0, 1, 0, 0, 0};
-  std::size_t points = 0;             // POINTS = width * height
-  PcdData data = PcdData::binary;     // DATA
+  std::size_t points = 0;          // POINTS = width * height
+  PcdData data = PcdData::binary;  // DATA
 };
 
 // The body encoding named on a PLY header's format line.
@@ -191,9 +191,10 @@ class PointFile {
 
 // Reads the point file at `path`; the format follows the extension (.ply, .pcd, .xyz, .xyzn,
 // .pwn, case-insensitive). PCD: DATA ascii, binary (little-endian, as PCL writes it on every
-// common host) or binary_compressed (LZF), any fields in any order. Throws invalid_argument for another extension, io when the file cannot be
-// opened or read, and invalid_input for malformed contents, with one line that names the file,
-// the element and the line (ascii) or row index (binary), and what is wrong.
+// common host) or binary_compressed (LZF), any fields in any order. Throws invalid_argument
+// for another extension, io when the file cannot be opened or read, and invalid_input for
+// malformed contents, with one line that names the file, the element (PLY) or field (PCD), the
+// line (ascii) or row index (binary) or point (PCD), and what is wrong.
 PointFile read_point_file(const std::string& path);
 
 // Writes `file` to `path` in the format its extension names. A PLY file keeps every element,
@@ -208,10 +209,12 @@ PointFile read_point_file(const std::string& path);
 // unorganised cloud of its vertices' scalar properties (nx ny nz named normal_x normal_y
 // normal_z); list properties cannot be written to PCD. A PCD file written as PLY keeps its rows,
 // invalid ones included; a 64-bit integer field cannot be written to PLY. Text formats carry
-// x y z [nx ny nz] of the valid points, 17 significant digits; .xyzn and .pwn need normals. The data goes to a temporary file in the target's folder that is renamed over
-// `path`, so `path` is either replaced whole or left alone; on failure no temporary file
-// remains. Throws invalid_argument for an unknown extension or a text format that needs normals
-// the file lacks, and io (naming the path and the OS reason) when writing fails.
+// x y z [nx ny nz] of the valid points, 17 significant digits; .xyzn and .pwn need normals.
+// The data goes to a temporary file in the target's folder that is renamed over `path`, so
+// `path` is either replaced whole or left alone; on failure no temporary file remains. Throws
+// invalid_argument for an unknown extension, a text format that needs normals the file lacks,
+// a list to PCD or a 64-bit integer to PLY, and io (naming the path and the OS reason) when
+// writing fails.
 void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options = {});
 
 }  // namespace pnf

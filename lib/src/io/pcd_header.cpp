@@ -26,8 +26,8 @@ struct PcdType {
 };
 
 constexpr PcdType kPcdTypes[] = {
-    {'I', 1, PlyScalar::int8},  {'U', 1, PlyScalar::uint8},  {'I', 2, PlyScalar::int16},
-    {'U', 2, PlyScalar::uint16}, {'I', 4, PlyScalar::int32}, {'U', 4, PlyScalar::uint32},
+    {'I', 1, PlyScalar::int8},    {'U', 1, PlyScalar::uint8}, {'I', 2, PlyScalar::int16},
+    {'U', 2, PlyScalar::uint16},  {'I', 4, PlyScalar::int32}, {'U', 4, PlyScalar::uint32},
     {'F', 4, PlyScalar::float32}, {'I', 8, PlyScalar::int64}, {'U', 8, PlyScalar::uint64},
     {'F', 8, PlyScalar::float64},
 };
@@ -116,7 +116,8 @@ class HeaderParser {
     } else if (keyword == "FIELDS" || keyword == "COLUMNS") {  // COLUMNS: PCL's name before v0.7
       once(seen_fields_, "FIELDS");
       if (values.empty()) fail_line("FIELDS names no field");
-      if (values.size() > kPcdMaxValuesPerPoint) fail_line("FIELDS names more than " + std::to_string(kPcdMaxValuesPerPoint) + " fields");
+      if (values.size() > kPcdMaxValuesPerPoint)
+        fail_line("FIELDS names more than " + std::to_string(kPcdMaxValuesPerPoint) + " fields");
       for (const std::string_view name : values) {
         PcdField field;
         field.name = std::string(name);
@@ -166,13 +167,15 @@ class HeaderParser {
       header_.points = single_integer(keyword, values);
     } else if (keyword == "VIEWPOINT") {
       once(seen_viewpoint_, keyword);
-      if (values.size() != 7) fail_line("VIEWPOINT has " + std::to_string(values.size()) + " values (expected 7: tx ty tz qw qx qy qz)");
+      if (values.size() != 7)
+        fail_line("VIEWPOINT has " + std::to_string(values.size()) + " values (expected 7: tx ty tz qw qx qy qz)");
       for (std::size_t i = 0; i < 7; ++i) {
         double value = 0;
         const std::string_view token = values[i];
         const auto result = std::from_chars(token.data(), token.data() + token.size(), value);
         if (result.ec != std::errc() || result.ptr != token.data() + token.size() || !std::isfinite(value)) {
-          fail_line("VIEWPOINT value " + std::to_string(i + 1) + " '" + std::string(token) + "' is not a finite number");
+          fail_line("VIEWPOINT value " + std::to_string(i + 1) + " '" + std::string(token) +
+                    "' is not a finite number");
         }
         header_.viewpoint[i] = value;
       }
@@ -214,7 +217,8 @@ class HeaderParser {
       for (const PcdField& field : fields) {
         if (field.name != axis) continue;
         found = true;
-        if (field.count != 1) fail("header: field '" + field.name + "' has COUNT " + std::to_string(field.count) + " (expected 1)");
+        if (field.count != 1)
+          fail("header: field '" + field.name + "' has COUNT " + std::to_string(field.count) + " (expected 1)");
       }
       if (!found) fail(std::string("header: no field '") + axis + "' (FIELDS must name x, y and z)");
     }

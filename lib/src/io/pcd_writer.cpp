@@ -29,8 +29,8 @@ PcdHeader header_for(const PointFile::Impl& impl, const std::string& path) {
   header.data = PcdData::binary;
   for (const PlyProperty& property : vertex.properties) {
     if (property.is_list) {
-      throw Error(ErrorCode::invalid_argument, path + ": vertex property '" + property.name +
-                                                   "' is a list, and PCD has no lists");
+      throw Error(ErrorCode::invalid_argument,
+                  path + ": vertex property '" + property.name + "' is a list, and PCD has no lists");
     }
     PcdField field;
     field.name = property.name;
@@ -60,7 +60,8 @@ void write_compressed(const PcdHeader& header, const std::vector<unsigned char>&
   for (const PcdField& field : header.fields) {
     const std::size_t bytes = std::size_t{field.size} * field.count;
     if (!is_pcd_padding(field)) {
-      for (std::size_t p = 0; p < points; ++p, to += bytes) std::memcpy(to, values.data() + p * point_bytes + column, bytes);
+      for (std::size_t p = 0; p < points; ++p, to += bytes)
+        std::memcpy(to, values.data() + p * point_bytes + column, bytes);
     }
     column += bytes;
   }
@@ -72,7 +73,7 @@ void write_compressed(const PcdHeader& header, const std::vector<unsigned char>&
                                    static_cast<unsigned int>(compressed.size()));
     if (compressed_size == 0) {
       throw Error(ErrorCode::io, path + ": LZF compression of " + std::to_string(packed.size()) +
-                                           " bytes did not fit its output buffer");
+                                     " bytes did not fit its output buffer");
     }
   }
   unsigned char sizes[8];

@@ -33,8 +33,8 @@ PointFileFormat format_from_extension(const std::string& path) {
   if (extension == ".xyzn") return PointFileFormat::xyzn;
   if (extension == ".pwn") return PointFileFormat::pwn;
   if (extension == ".pcd") return PointFileFormat::pcd;
-  throw Error(ErrorCode::invalid_argument, path + ": unknown point file extension '" + extension +
-                                               "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
+  throw Error(ErrorCode::invalid_argument,
+              path + ": unknown point file extension '" + extension + "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
 }
 
 PlyProperty real_property(const char* name, PlyScalar type) {
@@ -282,9 +282,9 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   const PlyElement& vertex = impl.header.elements[impl.vertex_element];
   const std::size_t points = valid_count();
   if (normals.size() != points) {
-    throw Error(ErrorCode::invalid_argument,
-                std::string(kWhere) + ": " + std::to_string(normals.size()) + " normals for " +
-                    std::to_string(points) + (impl.has_invalid_rows ? " valid points" : " vertices"));
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(normals.size()) +
+                                                 " normals for " + std::to_string(points) +
+                                                 (impl.has_invalid_rows ? " valid points" : " vertices"));
   }
   for (std::size_t i = 0; i < normals.size(); ++i) check_normal(normals[i], i, kWhere);
   if (impl.fields.has_normals()) {
