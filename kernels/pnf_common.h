@@ -32,6 +32,9 @@ typedef uint pnf_index;   /* a point id: 32 bits, clouds are limited to 2^32 - 1
 typedef ulong pnf_offset; /* a CSR offset: 64 bits, the pair count can pass 2^32 */
 #define pnf_exp exp
 #define pnf_sqrt sqrt
+/* max(a, lo), and v where a >= lo else 0, lane by lane, without a branch (select, fmax). */
+#define pnf_lane_max(a, lo) fmax((a), (pnf_lane)(lo))
+#define pnf_lane_keep_ge(v, a, lo) select((pnf_lane)0, (v), (a) >= (pnf_lane)(lo))
 #else
 #include <cmath>
 #include <cstdint>
@@ -46,10 +49,26 @@ typedef std::uint32_t pnf_index;
 typedef std::uint64_t pnf_offset;
 #define pnf_exp std::exp
 #define pnf_sqrt std::sqrt
+PNF_FN pnf_lane pnf_lane_max(pnf_lane a, pnf_lane lo) { return a > lo ? a : lo; }
+PNF_FN pnf_lane pnf_lane_keep_ge(pnf_lane v, pnf_lane a, pnf_lane lo) { return a >= lo ? v : 0; }
 #endif
 
 /* The spatial weight f is truncated at this many sigma_f: neighbours reach 2 sigma_f (SPEC). */
 #define PNF_SUPPORT_IN_SIGMA_F 2
+
+/* A weight whose exponent is below this is cut to zero, on every device and in the reference
+ * (SPEC, "Numerics": denormals must not set the speed). exp(-64) = 1.6e-28: far from float's
+ * denormal range (below 1.2e-38), with ten decades of headroom so that the weight's products in
+ * the sums (w h, w d, ...) stay normal floats too, and so small next to the self weight 1 that
+ * even 1000 such neighbours (1.6e-25 relative) are below double's rounding: the cut does not
+ * change the reference's function to its own precision. Without it, neighbours across a crease
+ * ((h / sigma_g)^2 far above 1) give denormal weights, and denormal arithmetic is slow on x86
+ * (3x on the dog setting; docs/performance.md). A build option (-cl-denorms-are-zero) would be a
+ * request a driver may ignore; this cut is arithmetic, so it holds everywhere. Overridable with
+ * -D only to measure it (the bench's --kernel-options). */
+#ifndef PNF_WEIGHT_CUT_EXPONENT
+#define PNF_WEIGHT_CUT_EXPONENT -64
+#endif
 
 /* |C n| below this fraction of the Frobenius norm of C means J is degenerate, and the input
  * normal is kept (SPEC, "The normal update"). */
@@ -221,9 +240,11 @@ PNF_FN pnf_ldual pnf_ldual_scale(pnf_ldual a, pnf_lane s) {
   return r;
 }
 
-PNF_FN pnf_ldual pnf_ldual_exp(pnf_ldual a) {
+/* exp, cut to 0 below PNF_WEIGHT_CUT_EXPONENT: the argument is clamped first, so exp itself
+ * never produces a denormal either. */
+PNF_FN pnf_ldual pnf_ldual_exp_cut(pnf_ldual a) {
   pnf_ldual r;
-  r.v = pnf_exp(a.v);
+  r.v = pnf_lane_keep_ge(pnf_exp(pnf_lane_max(a.v, PNF_WEIGHT_CUT_EXPONENT)), a.v, PNF_WEIGHT_CUT_EXPONENT);
   r.d0 = r.v * a.d0;
   r.d1 = r.v * a.d1;
   r.d2 = r.v * a.d2;

@@ -49,7 +49,7 @@ PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_dvec3 x_local, pnf_lane px, pnf_la
   pnf_ldual h = pnf_ldual_add(pnf_ldual_add(pnf_ldual_scale(dx, nx), pnf_ldual_scale(dy, ny)), pnf_ldual_scale(dz, nz));
   pnf_ldual exponent = pnf_ldual_add(pnf_ldual_scale(dist2, (pnf_lane)(-c.inv_two_sigma_f2)),
                                      pnf_ldual_scale(pnf_ldual_mul(h, h), (pnf_lane)(-c.inv_two_sigma_g2)));
-  pnf_ldual w = pnf_ldual_scale(pnf_ldual_exp(exponent), valid);
+  pnf_ldual w = pnf_ldual_scale(pnf_ldual_exp_cut(exponent), valid);
   /* Pi_p(x) - o = x_local + h n_p */
   pnf_ldual pi_x = pnf_ldual_add_scalar(x_local.x, pnf_ldual_scale(h, nx));
   pnf_ldual pi_y = pnf_ldual_add_scalar(x_local.y, pnf_ldual_scale(h, ny));

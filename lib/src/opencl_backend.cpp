@@ -18,10 +18,11 @@ std::vector<float> to_float(const std::vector<double>& v) { return std::vector<f
 
 class OpenClBackend : public FilterBackend {
  public:
-  OpenClBackend(const std::string& selector, int lanes) : runtime_(selector) {
+  OpenClBackend(const std::string& selector, int lanes, const std::string& extra_options) : runtime_(selector) {
     lanes_ = lanes > 0 ? lanes : runtime_.info().type == "gpu" ? kGpuLanes : kCpuLanes;
-    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass",
-                              std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_));
+    std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
+    if (!extra_options.empty()) options += " " + extra_options;
+    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
   }
 
   std::string description() const override {
@@ -162,8 +163,9 @@ class OpenClBackend : public FilterBackend {
 
 }  // namespace
 
-std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes) {
-  return std::make_unique<OpenClBackend>(selector, lanes);
+std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes,
+                                                   const std::string& extra_options) {
+  return std::make_unique<OpenClBackend>(selector, lanes, extra_options);
 }
 
 }  // namespace pnf::detail
