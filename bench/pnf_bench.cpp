@@ -282,8 +282,8 @@ int main(int argc, char** argv) {
   std::ofstream out(json_path);
   out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine
       << "\",\"cpus\":" << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\""
-      << command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null") << "\",\"flops_per_pair\":" << kFlopsPerPair
-      << ",\"repeats\":" << repeats << ",\"results\":[\n";
+      << command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null")
+      << "\",\"flops_per_pair\":" << kFlopsPerPair << ",\"repeats\":" << repeats << ",\"results\":[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i] << (i + 1 < rows.size() ? ",\n" : "\n");
   out << "]}\n";
   std::printf("wrote %s\n", json_path.c_str());

@@ -43,7 +43,8 @@ static pnf_dvec3 pnf_eval_F_lanes(uint s, pnf_vec3 o, __global const uint* indic
 
 __kernel void pnf_filter_pass(__global const float* positions, __global const float* normals_in,
                               __global float* normals_out, __global const ulong* offsets, __global const uint* indices,
-                              uint chunk_begin, uint chunk_count, float inv_two_sigma_f2, float inv_two_sigma_g2) {
+                              uint chunk_begin, uint chunk_count, float inv_two_sigma_f2, float inv_two_sigma_g2,
+                              __global uint* degenerate_count) {
   uint local_index = get_global_id(0);
   if (local_index >= chunk_count) return;
   uint s = chunk_begin + local_index;
@@ -51,12 +52,14 @@ __kernel void pnf_filter_pass(__global const float* positions, __global const fl
   c.inv_two_sigma_f2 = inv_two_sigma_f2;
   c.inv_two_sigma_g2 = inv_two_sigma_g2;
   ulong begin = offsets[local_index], end = offsets[local_index + 1];
+  int kept;
 #if PNF_LANES == 1
-  pnf_vec3 n = pnf_filter_point(s, indices, begin, end, positions, normals_in, c);
+  pnf_vec3 n = pnf_filter_point(s, indices, begin, end, positions, normals_in, c, &kept);
 #else
   pnf_dvec3 f = pnf_eval_F_lanes(s, pnf_load_vec3(positions, s), indices, begin, end, positions, normals_in, c);
-  pnf_vec3 n = pnf_update_normal(f, pnf_load_vec3(normals_in, s));
+  pnf_vec3 n = pnf_update_normal(f, pnf_load_vec3(normals_in, s), &kept);
 #endif
+  if (kept) atomic_inc(degenerate_count); /* rare: contention does not matter */
   normals_out[3 * (ulong)s] = n.x;
   normals_out[3 * (ulong)s + 1] = n.y;
   normals_out[3 * (ulong)s + 2] = n.z;

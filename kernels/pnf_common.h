@@ -70,9 +70,18 @@ PNF_FN pnf_lane pnf_lane_keep_ge(pnf_lane v, pnf_lane a, pnf_lane lo) { return a
 #define PNF_WEIGHT_CUT_EXPONENT -64
 #endif
 
-/* |C n| below this fraction of the Frobenius norm of C means J is degenerate, and the input
- * normal is kept (SPEC, "The normal update"). */
+/* |C n| below this fraction of |J|_F^2 means J is degenerate, and the input normal is kept (SPEC,
+ * "The normal update"). |J|_F^2 is the scale C's entries are computed at (each is a difference
+ * of products of two entries of J), so it also sets their rounding: for a rank-1 J, whose C is 0
+ * exactly, the computed C is that rounding, and |C| itself is no scale to compare with. J comes
+ * from sums over up to ~1000 neighbours, about 1e-6 relative error in float and 1e-14 in double;
+ * each threshold sits 100x above its type's error and far below a plane's 0.5 (J = I - n n^T,
+ * C n = n). The threshold follows the scalar type: SPEC's 1e-12 is below float's rounding. */
+#ifdef __OPENCL_VERSION__
+#define PNF_DEGENERATE_RELATIVE 1e-4f
+#else
 #define PNF_DEGENERATE_RELATIVE 1e-12
+#endif
 
 typedef struct {
   pnf_real x, y, z;

@@ -73,8 +73,9 @@ PNF_FN pnf_dvec3 pnf_finish_F(pnf_sums acc) {
 /* Column k of J = dF/dx. */
 PNF_FN pnf_vec3 pnf_jacobian_column(pnf_dvec3 f, int k) { return pnf_make_vec3(f.x.d[k], f.y.d[k], f.z.d[k]); }
 
-/* n' = C n_s / |C n_s| with SPEC's orientation and degenerate rules. */
-PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
+/* n' = C n_s / |C n_s| with SPEC's orientation and degenerate rules. *kept is set to 1 when J is
+ * degenerate and n_s is returned unchanged, to 0 otherwise. */
+PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s, int* kept) {
   pnf_vec3 j0 = pnf_jacobian_column(f, 0);
   pnf_vec3 j1 = pnf_jacobian_column(f, 1);
   pnf_vec3 j2 = pnf_jacobian_column(f, 2);
@@ -82,10 +83,11 @@ PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
   pnf_vec3 c1 = pnf_cross3(j2, j0);
   pnf_vec3 c2 = pnf_cross3(j0, j1);
   pnf_vec3 m = pnf_add3(pnf_add3(pnf_scale3(c0, n_s.x), pnf_scale3(c1, n_s.y)), pnf_scale3(c2, n_s.z));
-  pnf_real scale = pnf_sqrt(pnf_dot3(c0, c0) + pnf_dot3(c1, c1) + pnf_dot3(c2, c2));
+  pnf_real scale = pnf_dot3(j0, j0) + pnf_dot3(j1, j1) + pnf_dot3(j2, j2);
   pnf_real len = pnf_sqrt(pnf_dot3(m, m));
   /* Written so that a NaN or a zero scale also keeps n_s. */
-  if (!(len > (pnf_real)PNF_DEGENERATE_RELATIVE * scale) || !(len > 0)) return n_s;
+  *kept = !(len > (pnf_real)PNF_DEGENERATE_RELATIVE * scale) || !(len > 0);
+  if (*kept) return n_s;
   m = pnf_scale3(m, (pnf_real)1 / len);
   if (pnf_dot3(m, n_s) < 0) m = pnf_scale3(m, (pnf_real)-1);
   return m;
@@ -106,13 +108,14 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const
   return pnf_finish_F(acc);
 }
 
-/* One pass for point s: its new normal from its neighbour list indices[begin, end). */
+/* One pass for point s: its new normal from its neighbour list indices[begin, end); *kept as
+ * pnf_update_normal sets it. */
 PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin, pnf_offset end,
                                  PNF_GLOBAL const pnf_real* positions, PNF_GLOBAL const pnf_real* normals,
-                                 pnf_coeffs c) {
+                                 pnf_coeffs c, int* kept) {
   pnf_dvec3 x_local = pnf_dvec3_seed(pnf_make_vec3(0, 0, 0));
   pnf_dvec3 f = pnf_eval_F(x_local, pnf_load_vec3(positions, s), indices, begin, end, positions, normals, c);
-  return pnf_update_normal(f, pnf_load_vec3(normals, s));
+  return pnf_update_normal(f, pnf_load_vec3(normals, s), kept);
 }
 #endif
 

@@ -7,7 +7,14 @@
 #include <random>
 #include <vector>
 
+#include <cstdlib>
+#include <memory>
+#include <string>
+
+#include "cl_runtime.hpp"
+#include "kernel_source.hpp"
 #include "neighbour_lists.hpp"
+#include "pnf/error.hpp"
 #include "pnf_filter.h"
 
 namespace {
@@ -145,7 +152,9 @@ TEST(PnfFilter, UpdateOfARotationRotatesTheNormal) {
   const double a = 0.3;
   const double r[3][3] = {{std::cos(a), -std::sin(a), 0}, {std::sin(a), std::cos(a), 0}, {0, 0, 1}};
   pnf_vec3 n = pnf_make_vec3(1, 0, 0);
-  pnf_vec3 out = pnf_update_normal(with_jacobian(r), n);
+  int kept = 1;
+  pnf_vec3 out = pnf_update_normal(with_jacobian(r), n, &kept);
+  EXPECT_EQ(kept, 0);
   EXPECT_NEAR(out.x, std::cos(a), 1e-15);
   EXPECT_NEAR(out.y, std::sin(a), 1e-15);
   EXPECT_NEAR(out.z, 0, 1e-15);
@@ -156,7 +165,9 @@ TEST(PnfFilter, UpdateUsesTheInverseTransposeOfAShear) {
   // (-k, 0, 1)/sqrt(1 + k^2); the update must give exactly that from n = +z.
   const double k = 0.75;
   const double j[3][3] = {{1, 0, 0}, {0, 1, 0}, {k, 0, 1}};
-  pnf_vec3 out = pnf_update_normal(with_jacobian(j), pnf_make_vec3(0, 0, 1));
+  int kept = 1;
+  pnf_vec3 out = pnf_update_normal(with_jacobian(j), pnf_make_vec3(0, 0, 1), &kept);
+  EXPECT_EQ(kept, 0);
   const double len = std::sqrt(1 + k * k);
   EXPECT_NEAR(out.x, -k / len, 1e-15);
   EXPECT_NEAR(out.y, 0, 1e-15);
@@ -167,7 +178,9 @@ TEST(PnfFilter, UpdateNeverTurnsANormalToTheOtherSide) {
   // A reflection has det -1, so C n = -R n: the flip rule must bring it back to n's side.
   const double j[3][3] = {{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   pnf_vec3 n = pnf_make_vec3(0.6, 0, 0.8);
-  pnf_vec3 out = pnf_update_normal(with_jacobian(j), n);
+  int kept = 1;
+  pnf_vec3 out = pnf_update_normal(with_jacobian(j), n, &kept);
+  EXPECT_EQ(kept, 0);
   EXPECT_GT(out.x * n.x + out.y * n.y + out.z * n.z, 0);
   EXPECT_NEAR(out.x, -0.6, 1e-15);  // the reflected direction, flipped: (-0.6, 0, 0.8) -> itself
   EXPECT_NEAR(out.z, 0.8, 1e-15);
@@ -178,11 +191,117 @@ TEST(PnfFilter, DegenerateJacobianKeepsTheNormal) {
   const double zero[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
   const double rank_one[3][3] = {{1, 2, 3}, {2, 4, 6}, {0, 0, 0}};  // all 2x2 minors vanish: C = 0
   for (const auto* j : {zero, rank_one}) {
-    pnf_vec3 out = pnf_update_normal(with_jacobian(j), n);
+    int kept = 0;
+    pnf_vec3 out = pnf_update_normal(with_jacobian(j), n, &kept);
+    EXPECT_EQ(kept, 1);
     EXPECT_EQ(out.x, n.x);
     EXPECT_EQ(out.y, n.y);
     EXPECT_EQ(out.z, n.z);
   }
+}
+
+// u v^T with entries that are not exact in binary: the computed minors are rounding, not 0, and
+// |C| is of the same size as |C n|, so a threshold relative to |C| would normalise that noise.
+void rank_one_jacobian(double j[3][3]) {
+  const double u[3] = {0.3, -0.7, 1.1}, v[3] = {1.0 / 3, 0.1, -2.0 / 7};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) j[i][k] = u[i] * v[k];
+}
+
+TEST(PnfFilter, RoundedRankOneJacobianKeepsTheNormalInDouble) {
+  double j[3][3];
+  rank_one_jacobian(j);
+  pnf_vec3 n = pnf_make_vec3(0, 0.6, 0.8);
+  int kept = 0;
+  pnf_vec3 out = pnf_update_normal(with_jacobian(j), n, &kept);
+  EXPECT_EQ(kept, 1);
+  EXPECT_EQ(out.x, n.x);
+  EXPECT_EQ(out.y, n.y);
+  EXPECT_EQ(out.z, n.z);
+}
+
+TEST(PnfFilter, RegularJacobianIsNotDegenerate) {
+  const double shear[3][3] = {{1, 0, 0}, {0, 1, 0}, {0.75, 0, 1}};
+  int kept = 1;
+  pnf_update_normal(with_jacobian(shear), pnf_make_vec3(0, 0, 1), &kept);
+  EXPECT_EQ(kept, 0);
+}
+
+// The same update in float, as the kernels run it: pnf_filter.h through a tiny OpenCL kernel.
+// Cases: a rounded rank-1 J (kept), the zero J (kept), a shear (updated, as in double).
+TEST(PnfFilter, RoundedRankOneJacobianKeepsTheNormalInFloat) {
+  std::unique_ptr<pnf::detail::ClRuntime> runtime;
+  try {
+    runtime = std::make_unique<pnf::detail::ClRuntime>("");
+  } catch (const pnf::Error& e) {
+    if (std::getenv("PNF_DEVICE")) FAIL() << "PNF_DEVICE is set but: " << e.what();
+    GTEST_SKIP() << "no OpenCL device: " << e.what();
+  }
+  const std::string source = pnf::detail::kernel_source("filter.cl") + R"CL(
+__kernel void pnf_test_update_normal(__global const float* jacobians, __global const float* normals,
+                                     __global float* out, __global int* kept) {
+  uint i = get_global_id(0);
+  pnf_dvec3 f = pnf_dvec3_seed(pnf_make_vec3(0, 0, 0));
+  for (int k = 0; k < 3; ++k) {
+    f.x.d[k] = jacobians[9 * i + k];
+    f.y.d[k] = jacobians[9 * i + 3 + k];
+    f.z.d[k] = jacobians[9 * i + 6 + k];
+  }
+  int k;
+  pnf_vec3 n = pnf_update_normal(f, pnf_make_vec3(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]), &k);
+  out[3 * i] = n.x;
+  out[3 * i + 1] = n.y;
+  out[3 * i + 2] = n.z;
+  kept[i] = k;
+}
+)CL";
+  double rank_one[3][3];
+  rank_one_jacobian(rank_one);
+  const double zero[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  const double shear[3][3] = {{1, 0, 0}, {0, 1, 0}, {0.75, 0, 1}};
+  std::vector<float> jacobians, normals;
+  for (const double(*j)[3] : {static_cast<const double(*)[3]>(rank_one), zero, shear}) {
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) jacobians.push_back(float(j[i][k]));
+  }
+  normals = {0, 0.6f, 0.8f, 0, 0.6f, 0.8f, 0, 0, 1};
+  std::vector<float> out(9);
+  std::vector<int> kept(3, -1);
+  try {
+    cl::Context& context = runtime->context();
+    cl::Program program(context, source);
+    try {
+      program.build("-cl-std=CL1.2 -DPNF_LANES=1");
+    } catch (const cl::Error&) {
+      FAIL() << program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(runtime->device());
+    }
+    cl::Buffer j_buf(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, jacobians.size() * sizeof(float),
+                     jacobians.data());
+    cl::Buffer n_buf(context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, normals.size() * sizeof(float), normals.data());
+    cl::Buffer out_buf(context, CL_MEM_WRITE_ONLY, out.size() * sizeof(float));
+    cl::Buffer kept_buf(context, CL_MEM_WRITE_ONLY, kept.size() * sizeof(int));
+    cl::Kernel kernel(program, "pnf_test_update_normal");
+    kernel.setArg(0, j_buf);
+    kernel.setArg(1, n_buf);
+    kernel.setArg(2, out_buf);
+    kernel.setArg(3, kept_buf);
+    runtime->queue().enqueueNDRangeKernel(kernel, cl::NullRange, cl::NDRange(3));
+    runtime->queue().enqueueReadBuffer(out_buf, CL_TRUE, 0, out.size() * sizeof(float), out.data());
+    runtime->queue().enqueueReadBuffer(kept_buf, CL_TRUE, 0, kept.size() * sizeof(int), kept.data());
+  } catch (const cl::Error& e) {
+    FAIL() << e.what() << " " << pnf::detail::cl_error_name(e.err());
+  }
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_EQ(kept[c], 1) << "case " << c;
+    EXPECT_EQ(out[3 * c], 0.0f) << "case " << c;
+    EXPECT_EQ(out[3 * c + 1], 0.6f) << "case " << c;
+    EXPECT_EQ(out[3 * c + 2], 0.8f) << "case " << c;
+  }
+  EXPECT_EQ(kept[2], 0);
+  const double len = std::sqrt(1 + 0.75 * 0.75);
+  EXPECT_NEAR(out[6], -0.75 / len, 1e-6);  // float rounding of the cofactors
+  EXPECT_NEAR(out[7], 0, 1e-6);
+  EXPECT_NEAR(out[8], 1 / len, 1e-6);
 }
 
 }  // namespace

@@ -152,6 +152,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
+    summary.degenerate_kept = 0;
     std::size_t largest = 0;  // bytes of the largest chunk's lists, to halve on a refusal
     try {
       start = Clock::now();
@@ -186,6 +187,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());
+        summary.degenerate_kept += backend.degenerate_kept();
         summary.pass_seconds.push_back(seconds_since(pass_start));
         summary.passes_run = pass;
         if (progress && !progress(PassProgress{pass, params.iterations, summary.pass_seconds.back()})) {

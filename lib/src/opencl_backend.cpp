@@ -40,6 +40,9 @@ class OpenClBackend : public FilterBackend {
       next_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, bytes);
       runtime_.queue().enqueueWriteBuffer(positions_, CL_TRUE, 0, bytes, p.data());
       runtime_.queue().enqueueWriteBuffer(current_, CL_TRUE, 0, bytes, n.data());
+      degenerate_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, sizeof(cl_uint));
+      const cl_uint zero = 0;
+      runtime_.queue().enqueueWriteBuffer(degenerate_, CL_TRUE, 0, sizeof zero, &zero);
       runtime_.queue().finish();
     });
   }
@@ -92,6 +95,7 @@ class OpenClBackend : public FilterBackend {
       kernel_.setArg(6, chunk_count_);
       kernel_.setArg(7, static_cast<cl_float>(coefficients.inv_two_sigma_f2));
       kernel_.setArg(8, static_cast<cl_float>(coefficients.inv_two_sigma_g2));
+      kernel_.setArg(9, degenerate_);
       cl::Event event;
       runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(chunk_count_), cl::NullRange, nullptr,
                                             &event);
@@ -112,11 +116,19 @@ class OpenClBackend : public FilterBackend {
         }
       }
       events_.clear();
+      // The kernels of every chunk of the pass add to one counter; read it and start the next at 0.
+      cl_uint kept = 0;
+      const cl_uint zero = 0;
+      runtime_.queue().enqueueReadBuffer(degenerate_, CL_TRUE, 0, sizeof kept, &kept);
+      runtime_.queue().enqueueWriteBuffer(degenerate_, CL_TRUE, 0, sizeof zero, &zero);
+      last_kept_ = kept;
       // The chunks of a pass cover every point, so `next_` is whole and can become current.
       std::swap(current_, next_);
       return seconds;
     });
   }
+
+  std::size_t degenerate_kept() const override { return last_kept_; }
 
   std::size_t device_bytes() const override {
     return 3 * point_count_ * 3 * sizeof(float) + offsets_capacity_ + indices_capacity_;
@@ -154,6 +166,8 @@ class OpenClBackend : public FilterBackend {
   cl::Kernel kernel_;
   std::size_t point_count_ = 0;
   cl::Buffer positions_, current_, next_, offsets_, indices_;
+  cl::Buffer degenerate_;      // one uint: points of the current pass whose J was degenerate
+  std::size_t last_kept_ = 0;  // that count for the pass end_pass() last closed
   std::size_t offsets_capacity_ = 0, indices_capacity_ = 0;
   cl_uint chunk_begin_ = 0, chunk_count_ = 0;
   void* mapped_offsets_ = nullptr;

@@ -41,21 +41,30 @@ class ReferenceBackend : public FilterBackend {
     c.inv_two_sigma_f2 = coefficients.inv_two_sigma_f2;
     c.inv_two_sigma_g2 = coefficients.inv_two_sigma_g2;
     const auto count = static_cast<std::int64_t>(count_);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
+    std::size_t kept_here = 0;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_) reduction(+ : kept_here)
     for (std::int64_t k = 0; k < count; ++k) {
       auto s = static_cast<pnf_index>(first_ + k);
-      pnf_vec3 n =
-          pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(), current_.data(), c);
+      int kept = 0;
+      pnf_vec3 n = pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(),
+                                    current_.data(), c, &kept);
+      kept_here += std::size_t(kept);
       next_[3 * std::size_t(s)] = n.x;
       next_[3 * std::size_t(s) + 1] = n.y;
       next_[3 * std::size_t(s) + 2] = n.z;
     }
+
+    pass_kept_ += kept_here;
   }
 
   double end_pass() override {
     current_.swap(next_);
+    last_kept_ = pass_kept_;
+    pass_kept_ = 0;
     return 0;
   }
+
+  std::size_t degenerate_kept() const override { return last_kept_; }
 
   std::size_t device_bytes() const override { return 0; }
 
@@ -67,6 +76,7 @@ class ReferenceBackend : public FilterBackend {
   std::vector<double> current_;
   std::vector<double> next_;
   std::size_t first_ = 0, count_ = 0;
+  std::size_t pass_kept_ = 0, last_kept_ = 0;  // degenerate points: this pass so far, last pass
   std::vector<std::uint64_t> offsets_;
   std::vector<std::uint32_t> indices_;
 };
