@@ -20,8 +20,15 @@
 namespace {
 
 struct RandomCloud {
-  std::vector<double> positions, normals;
+  std::vector<double> positions, normals;       // N by 3, for the neighbour search and brute force
+  std::vector<pnf_real4> positions4, normals4;  // the layout pnf_filter.h reads
 };
+
+std::vector<pnf_real4> to_real4(const std::vector<double>& v) {
+  std::vector<pnf_real4> out;
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) out.push_back(pnf_real4{v[i], v[i + 1], v[i + 2], 0});
+  return out;
+}
 
 // Points in a unit cube with random unit normals: no structure the math could lean on.
 RandomCloud random_cloud(int n, unsigned seed) {
@@ -34,15 +41,9 @@ RandomCloud random_cloud(int n, unsigned seed) {
     c.positions.insert(c.positions.end(), {u(rng), u(rng), u(rng)});
     c.normals.insert(c.normals.end(), {nx / len, ny / len, nz / len});
   }
+  c.positions4 = to_real4(c.positions);
+  c.normals4 = to_real4(c.normals);
   return c;
-}
-
-pnf_dvec3 constant_dvec(double x, double y, double z) {
-  pnf_dvec3 r;
-  r.x = pnf_dual_const(x);
-  r.y = pnf_dual_const(y);
-  r.z = pnf_dual_const(z);
-  return r;
 }
 
 double value(const pnf_dvec3& f, int i) { return i == 0 ? f.x.v : i == 1 ? f.y.v : f.z.v; }
@@ -59,25 +60,29 @@ TEST(PnfFilter, JacobianMatchesCentralFiniteDifferences) {
     // Central differences have error O(step^2 |F'''|) + O(eps |F| / step); this step balances
     // them far below the 1e-6 asked for at this scale (sigma ~ 0.1).
     const double step = 1e-6;
-    for (int s = 0; s < 400; s += 7) {
-      pnf_vec3 origin = pnf_load_vec3(cloud.positions.data(), s);
-      pnf_dvec3 ad = pnf_eval_F(pnf_dvec3_seed(pnf_make_vec3(0, 0, 0)), origin, lists.indices.data(), lists.offsets[s],
-                                lists.offsets[s + 1], cloud.positions.data(), cloud.normals.data(), c);
-      double scale = 0;
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) scale = std::max(scale, std::fabs(partial(ad, i, k)));
-      for (int k = 0; k < 3; ++k) {
-        double e[3] = {0, 0, 0};
-        e[k] = step;
-        auto at = [&](double sign) {
-          return pnf_eval_F(constant_dvec(sign * e[0], sign * e[1], sign * e[2]), origin, lists.indices.data(),
-                            lists.offsets[s], lists.offsets[s + 1], cloud.positions.data(), cloud.normals.data(), c);
+    // At the sample itself (the filter's query) and off it, so that the Jacobian's terms in
+    // x - o are exercised too.
+    for (const pnf_vec3 at : {pnf_make_vec3(0, 0, 0), pnf_make_vec3(0.012, -0.007, 0.02)}) {
+      for (int s = 0; s < 400; s += 7) {
+        auto eval = [&](pnf_vec3 x) {
+          return pnf_eval_F(x, pnf_index(s), lists.indices.data(), lists.offsets[s], lists.offsets[s + 1],
+                            cloud.positions4.data(), cloud.normals4.data(), c);
         };
-        pnf_dvec3 plus = at(+1), minus = at(-1);
-        for (int i = 0; i < 3; ++i) {
-          double fd = (value(plus, i) - value(minus, i)) / (2 * step);
-          EXPECT_NEAR(partial(ad, i, k), fd, 1e-6 * scale)
-              << "seed " << seed << " point " << s << " dF" << i << "/dx" << k;
+        pnf_dvec3 ad = eval(at);
+        double scale = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) scale = std::max(scale, std::fabs(partial(ad, i, k)));
+        for (int k = 0; k < 3; ++k) {
+          double e[3] = {0, 0, 0};
+          e[k] = step;
+          pnf_dvec3 plus = eval(pnf_make_vec3(at.x + e[0], at.y + e[1], at.z + e[2]));
+          pnf_dvec3 minus = eval(pnf_make_vec3(at.x - e[0], at.y - e[1], at.z - e[2]));
+          for (int i = 0; i < 3; ++i) {
+            double fd = (value(plus, i) - value(minus, i)) / (2 * step);
+            EXPECT_NEAR(partial(ad, i, k), fd, 1e-6 * scale)
+                << "seed " << seed << " point " << s << " dF" << i << "/dx" << k << " at x - o = (" << at.x << ", "
+                << at.y << ", " << at.z << ")";
+          }
         }
       }
     }
@@ -109,10 +114,9 @@ TEST(PnfFilter, FMatchesBruteForceEvaluation) {
       sum_w += w;
       for (int i = 0; i < 3; ++i) sum_wp[i] += w * (x[i] + h * N[3 * p + i]);
     }
-    pnf_vec3 origin = pnf_load_vec3(P, s);
-    pnf_dvec3 f = pnf_eval_F(constant_dvec(0.01, -0.02, 0.005), origin, lists.indices.data(), lists.offsets[s],
-                             lists.offsets[s + 1], P, N, c);
-    const double o[3] = {origin.x, origin.y, origin.z};
+    pnf_dvec3 f = pnf_eval_F(pnf_make_vec3(0.01, -0.02, 0.005), pnf_index(s), lists.indices.data(), lists.offsets[s],
+                             lists.offsets[s + 1], cloud.positions4.data(), cloud.normals4.data(), c);
+    const double o[3] = {P[3 * s], P[3 * s + 1], P[3 * s + 2]};
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(value(f, i) + o[i], sum_wp[i] / sum_w, 1e-12) << "point " << s;
   }
 }
@@ -120,17 +124,17 @@ TEST(PnfFilter, FMatchesBruteForceEvaluation) {
 TEST(PnfFilter, PlaneJacobianIsTheTangentProjection) {
   // On the plane z = 0 with normals +z every projection is (x, y, 0): F(x) = (x, y, 0) and
   // J = diag(1, 1, 0) exactly, whatever the weights.
-  std::vector<double> positions, normals;
+  std::vector<pnf_real4> positions, normals;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < 50; ++i) {
-    positions.insert(positions.end(), {u(rng), u(rng), 0.0});
-    normals.insert(normals.end(), {0.0, 0.0, 1.0});
+    positions.push_back(pnf_real4{u(rng), u(rng), 0.0, 0.0});
+    normals.push_back(pnf_real4{0.0, 0.0, 1.0, 0.0});
   }
   std::vector<std::uint32_t> indices(50);
   for (int i = 0; i < 50; ++i) indices[i] = i;
-  pnf_dvec3 f = pnf_eval_F(pnf_dvec3_seed(pnf_make_vec3(0, 0, 0)), pnf_load_vec3(positions.data(), 0), indices.data(),
-                           0, 50, positions.data(), normals.data(), pnf_make_coeffs(0.5, 0.1));
+  pnf_dvec3 f = pnf_eval_F(pnf_make_vec3(0, 0, 0), 0, indices.data(), 0, 50, positions.data(), normals.data(),
+                           pnf_make_coeffs(0.5, 0.1));
   const double expected[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(partial(f, i, k), expected[i][k], 1e-14);
@@ -138,7 +142,10 @@ TEST(PnfFilter, PlaneJacobianIsTheTangentProjection) {
 
 // A pnf_dvec3 whose partials are the given Jacobian (rows i, columns k).
 pnf_dvec3 with_jacobian(const double j[3][3]) {
-  pnf_dvec3 f = constant_dvec(0, 0, 0);
+  pnf_dvec3 f;
+  f.x = pnf_dual_const(0);
+  f.y = pnf_dual_const(0);
+  f.z = pnf_dual_const(0);
   for (int k = 0; k < 3; ++k) {
     f.x.d[k] = j[0][k];
     f.y.d[k] = j[1][k];
@@ -241,7 +248,10 @@ TEST(PnfFilter, RoundedRankOneJacobianKeepsTheNormalInFloat) {
 __kernel void pnf_test_update_normal(__global const float* jacobians, __global const float* normals,
                                      __global float* out, __global int* kept) {
   uint i = get_global_id(0);
-  pnf_dvec3 f = pnf_dvec3_seed(pnf_make_vec3(0, 0, 0));
+  pnf_dvec3 f;
+  f.x = pnf_dual_const(0);
+  f.y = pnf_dual_const(0);
+  f.z = pnf_dual_const(0);
   for (int k = 0; k < 3; ++k) {
     f.x.d[k] = jacobians[9 * i + k];
     f.y.d[k] = jacobians[9 * i + 3 + k];

@@ -14,7 +14,18 @@ constexpr const char* kBuildOptions = "-cl-std=CL1.2";
 constexpr int kCpuLanes = 16;
 constexpr int kGpuLanes = 1;
 
-std::vector<float> to_float(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
+// N by 3 doubles -> N float4 (x, y, z, 0): the kernel loads a point's position or normal as one
+// 16-byte vector.
+std::vector<cl_float4> to_float4(const std::vector<double>& v) {
+  std::vector<cl_float4> out(v.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].s[0] = static_cast<float>(v[3 * i]);
+    out[i].s[1] = static_cast<float>(v[3 * i + 1]);
+    out[i].s[2] = static_cast<float>(v[3 * i + 2]);
+    out[i].s[3] = 0.0f;
+  }
+  return out;
+}
 
 class OpenClBackend : public FilterBackend {
  public:
@@ -33,8 +44,8 @@ class OpenClBackend : public FilterBackend {
   void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) override {
     guarded([&] {
       point_count_ = positions.size() / 3;
-      std::vector<float> p = to_float(positions), n = to_float(normals);
-      const std::size_t bytes = p.size() * sizeof(float);
+      std::vector<cl_float4> p = to_float4(positions), n = to_float4(normals);
+      const std::size_t bytes = p.size() * sizeof(cl_float4);
       positions_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY, bytes);
       current_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, bytes);
       next_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, bytes);
@@ -131,14 +142,18 @@ class OpenClBackend : public FilterBackend {
   std::size_t degenerate_kept() const override { return last_kept_; }
 
   std::size_t device_bytes() const override {
-    return 3 * point_count_ * 3 * sizeof(float) + offsets_capacity_ + indices_capacity_;
+    return 3 * point_count_ * sizeof(cl_float4) + offsets_capacity_ + indices_capacity_;
   }
 
   std::vector<double> download_normals() override {
     return guarded([&] {
-      std::vector<float> n(point_count_ * 3);
-      runtime_.queue().enqueueReadBuffer(current_, CL_TRUE, 0, n.size() * sizeof(float), n.data());
-      return std::vector<double>(n.begin(), n.end());
+      std::vector<cl_float4> n(point_count_);
+      runtime_.queue().enqueueReadBuffer(current_, CL_TRUE, 0, n.size() * sizeof(cl_float4), n.data());
+      std::vector<double> out(3 * point_count_);
+      for (std::size_t i = 0; i < point_count_; ++i) {
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = n[i].s[c];
+      }
+      return out;
     });
   }
 
