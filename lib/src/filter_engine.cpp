@@ -244,6 +244,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
+    summary.degenerate_kept = 0;
     std::size_t largest = 0;  // bytes of the largest chunk's lists, to halve on a refusal
     try {
       start = Clock::now();
@@ -278,6 +279,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());
+        summary.degenerate_kept += backend.degenerate_kept();
         std::vector<double> current;
         if (part) {
           // The halo's rows of the new normals were not computed here: their owners send them.
