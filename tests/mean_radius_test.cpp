@@ -27,7 +27,7 @@ TEST(MeanRadius, RandomSamplingOfKnownDensity) {
 
 TEST(MeanRadius, TooFewOrCoincidentPointsGiveZero) {
   EXPECT_EQ(pnf::estimate_mean_radius({}), 0.0);
-  EXPECT_EQ(pnf::estimate_mean_radius({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), 0.0);
+  EXPECT_EQ(pnf::estimate_mean_radius(std::vector<pnf::Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), 0.0);
   std::vector<pnf::Vec3> same(100, pnf::Vec3{3, 4, 5});
   EXPECT_EQ(pnf::estimate_mean_radius(same), 0.0);
 }

@@ -5,15 +5,17 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <utility>
 
-#include "bounding_box.hpp"
 #include "chunk_plan.hpp"
 #include "cloud_checks.hpp"
+#include "geometry.hpp"
 #include "mean_radius_internal.hpp"
-#include "neighbour_lists.hpp"
+#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 #include "pnf_filter.h"
-#include "spatial_order.hpp"
+#include "spatial/spatial_index.hpp"
+#include "spatial/spatial_order.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -47,29 +49,16 @@ OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<double>& uni
   return out;
 }
 
-double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, const NeighbourSearch& search,
+double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, const SpatialIndex& search,
                            RadiusSource& source) {
   if (params.units == Units::absolute) {
     source = RadiusSource::not_used;
     return 0;
   }
-  if (params.mean_radius > 0) {
-    source = RadiusSource::given;
-    return params.mean_radius;
-  }
-  if (cloud.has_radii()) {
-    source = RadiusSource::property;
-    return std::accumulate(cloud.radii.begin(), cloud.radii.end(), 0.0) / double(cloud.radii.size());
-  }
-  source = RadiusSource::estimate;
-  double estimate = estimate_mean_radius(search);
-  if (!(estimate > 0)) {
-    throw Error(ErrorCode::invalid_input,
-                "cannot estimate the mean surfel radius of " + std::to_string(cloud.size()) +
-                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
-                    "explicitly or use absolute units");
-  }
-  return estimate;
+  const MeanRadius radius = detail::resolve_mean_radius(params.mean_radius, cloud.radii, cloud.size(),
+                                                        [&] { return estimate_mean_radius(search); });
+  source = radius.source;
+  return radius.value;
 }
 
 // Mean angle in degrees between two N by 3 arrays of unit vectors (atan2: exact near 0).
@@ -77,12 +66,9 @@ double mean_angle_deg(const std::vector<double>& a, const std::vector<double>& b
   double sum = 0;
   const std::size_t n = a.size() / 3;
   for (std::size_t i = 0; i < n; ++i) {
-    const double* u = &a[3 * i];
-    const double* v = &b[3 * i];
-    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
-    sum += std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+    sum += geometry::angle_radians({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
   }
-  return n > 0 ? sum / double(n) * 180.0 / 3.14159265358979323846 : 0.0;
+  return n > 0 ? sum / double(n) * 180.0 / geometry::kPi : 0.0;
 }
 
 std::string gib(double bytes) {
@@ -94,7 +80,7 @@ std::string gib(double bytes) {
 // Refuses, before the exact count, a neighbourhood so wide that the lists would pass
 // options.max_neighbour_pairs (every point neighbouring every other, say): that count alone
 // would take hours. A sample of points gives the estimate.
-void check_pair_estimate(const NeighbourSearch& search, double reach, const FilterOptions& options,
+void check_pair_estimate(const SpatialIndex& search, double reach, const FilterOptions& options,
                          const FilterSummary& summary) {
   const double estimate = search.estimate_pairs(reach);
   if (estimate <= double(options.max_neighbour_pairs)) return;
@@ -125,7 +111,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   const std::vector<double> unit = unit_normals(cloud.normals);
   auto start = Clock::now();
   OrderedCloud ordered = order_cloud(cloud, unit);
-  NeighbourSearch search(ordered.positions.data(), cloud.size());
+  const SpatialIndex search(std::move(ordered.positions));  // no copy: the tree searches them in place
   summary.mean_radius = resolve_mean_radius(cloud, params, search, summary.radius_source);
   const double scale = params.units == Units::radius ? summary.mean_radius : 1.0;
   summary.sigma_f = params.sigma_f * scale;
@@ -156,7 +142,7 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
     std::size_t largest = 0;  // bytes of the largest chunk's lists, to halve on a refusal
     try {
       start = Clock::now();
-      backend.upload_cloud(ordered.positions, ordered.normals);
+      backend.upload_cloud(search.positions(), ordered.normals);
       summary.upload_seconds += seconds_since(start);
 
       auto load_chunk = [&](const Chunk& chunk) {
