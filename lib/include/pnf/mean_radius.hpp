@@ -18,13 +18,15 @@ namespace pnf {
 // themselves are left out. On a square grid of spacing h this is exactly h (the 4 nearest are
 // the edge neighbours).
 //
-// Measured (tests/mean_radius_test.cpp, 6400-point grids, spacings 0.01 to 350): on a square
-// grid of spacing h jittered uniformly by ±0.1 h per axis in the plane 0.99 h, by ±0.25 h 0.96 h
-// (SPEC asks for within 25% of h); on uniform random samples of density 1 / h² (the square root
-// of the area per point is h) 0.82 h, or 0.82 of the "area spacing" that --auto measures.
+// Measured (40,000 points in a plane, mean of 5 seeds; tests/mean_radius_test.cpp holds these):
+// on a square grid of spacing h jittered uniformly in the plane by up to ±0.1 h per axis 1.00 h,
+// ±0.25 h 1.00 h, ±0.5 h 0.94 h (SPEC asks for within 25% of h); on uniform random samples of
+// density 1 / h² (the square root of the area per point is h) 0.80 h. So on scans and random
+// samples the mean radius is about 0.8 of the "area spacing" that --auto measures.
 //
 // Returns 0 when N < 5 or when every point sits on top of 4 others. The same positions give
-// the same value bit for bit, in any order of the input rows that keeps the Morton order.
+// the same value bit for bit in any row order (points that share a Morton cell, 2^-21 of the
+// box apart, keep their input order, which can change which of them is sampled).
 // Cost: a kd-tree over N points and up to 100,000 searches of 5 neighbours.
 // Thread safety: may be called concurrently.
 double estimate_mean_radius(const Vec3ArrayView& positions);
