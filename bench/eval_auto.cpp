@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/mean_radius.hpp"
@@ -37,7 +38,7 @@ namespace {
 
 using namespace pnf;
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::kPi;
 constexpr double kGridSigmaF[] = {2, 4, 8};
 constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
 constexpr int kGridPasses[] = {1, 2, 4, 8};
@@ -61,7 +62,7 @@ double rms_line_angle(const std::vector<Vec3>& normals, const std::vector<Vec3>&
   double sum = 0;
   for (std::size_t i = 0; i < normals.size(); ++i) {
     const Vec3 a = unit(normals[i]);
-    double t = std::atan2(std::sqrt(dot(cross(a, truth[i]), cross(a, truth[i]))), dot(a, truth[i])) * 180 / kPi;
+    double t = geometry::angle_degrees(a, truth[i]);
     t = std::min(t, 180 - t);
     sum += t * t;
   }

@@ -1,4 +1,4 @@
-#include "spatial_order.hpp"
+#include "spatial/spatial_order.hpp"
 
 #include <algorithm>
 #include <numeric>
