@@ -394,8 +394,7 @@ int main(int argc, char** argv) {
   }
 
   FilterOptions options;
-  options.backend = backend == "reference" ? Backend::reference : Backend::opencl;
-  options.device = device;
+  options.device = backend == "reference" ? Device::reference() : Device::parse(device);
   NormalFilter filter(options);
   std::printf("pnf_eval_auto on %s\n", filter.device_description().c_str());
   std::printf(

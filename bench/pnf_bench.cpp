@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "bench_workloads.hpp"
+#include "filter_factory.hpp"
 #include "pnf/normal_filter.hpp"
 
 namespace {
@@ -44,8 +45,10 @@ double peak_host_mib() {
   return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-Row measure(const Workload& w, const std::string& variant, const FilterOptions& options, int passes, int repeats) {
-  NormalFilter filter(options);
+// lanes: the kernel's lane width (an internal tuning, detail::FilterFactory); 0 for the default.
+Row measure(const Workload& w, const std::string& variant, const FilterOptions& options, int passes, int repeats,
+            int lanes = 0) {
+  NormalFilter filter = detail::FilterFactory::with_lanes(options, lanes);
   FilterParams params = w.params;
   params.iterations = 1;
   filter.run(w.cloud, params);  // warm-up
@@ -194,20 +197,18 @@ int main(int argc, char** argv) {
       }
       std::fprintf(stderr, "pnf_bench: %s (%zu points)...\n", name.c_str(), w.cloud.size());
       FilterOptions opencl;
-      opencl.device = device;
+      opencl.device = Device::parse(device);
       out.push_back(json(measure(w, "opencl", opencl, passes, repeats)));
       for (int l : lanes) {
-        FilterOptions variant = opencl;
-        variant.lanes = l;
-        out.push_back(json(measure(w, "opencl-L" + std::to_string(l), variant, passes, repeats)));
+        out.push_back(json(measure(w, "opencl-L" + std::to_string(l), opencl, passes, repeats, l)));
       }
       if (reference) {
         FilterOptions one;
-        one.backend = Backend::reference;
-        one.threads = 1;
+        one.device = Device::reference();
+        one.reference_threads = 1;
         out.push_back(json(measure(w, "reference-1t", one, 1, 1)));
         FilterOptions all = one;
-        all.threads = 0;
+        all.reference_threads = 0;
         out.push_back(json(measure(w, "reference-all", all, 1, 1)));
       }
       return out;

@@ -105,7 +105,7 @@ std::string cl_error_name(cl_int code) {
 }
 
 ClRuntime::ClRuntime(const std::string& selector) {
-  std::string resolved = effective_device_selector(selector);
+  const std::string& resolved = selector;
   std::vector<FoundDevice> found = enumerate_devices();
   int chosen = choose_device(infos(found), resolved);
   if (chosen < 0) throw Error(ErrorCode::device, no_device_message(infos(found), resolved));
@@ -119,8 +119,11 @@ ClRuntime::ClRuntime(const std::string& selector) {
 }
 
 std::size_t ClRuntime::max_alloc_bytes() const {
-  return static_cast<std::size_t>(device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>());
+  return with_cl_errors(info_.device_name,
+                        [&] { return static_cast<std::size_t>(device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>()); });
 }
+
+std::vector<DeviceInfo> enumerate_device_infos() { return infos(enumerate_devices()); }
 
 cl::Kernel ClRuntime::kernel(const std::string& file, const std::string& kernel_name, const std::string& options) {
   const std::string key = file + '\n' + options;
@@ -152,13 +155,3 @@ std::string ClRuntime::description() const {
 
 }  // namespace pnf::detail
 
-namespace pnf {
-
-std::vector<DeviceInfo> list_devices(const std::string& selector) {
-  std::vector<DeviceInfo> devices = detail::infos(detail::enumerate_devices());
-  int chosen = detail::choose_device(devices, effective_device_selector(selector));
-  if (chosen >= 0) devices[chosen].selected = true;
-  return devices;
-}
-
-}  // namespace pnf

@@ -8,10 +8,15 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "pnf/device.hpp"
 
 namespace pnf::detail {
+
+// Every device of every platform as DeviceInfo (selected all false); empty when no ICD or
+// platform is installed.
+std::vector<DeviceInfo> enumerate_device_infos();
 
 // "CL_OUT_OF_RESOURCES" for -5, ...; "CL_UNKNOWN_ERROR(<code>)" for codes it does not know.
 std::string cl_error_name(cl_int code);
@@ -20,6 +25,11 @@ std::string cl_error_name(cl_int code);
 // throw. Not thread safe: one runtime per thread.
 class ClRuntime {
  public:
+  ClRuntime(const ClRuntime&) = delete;
+  ClRuntime& operator=(const ClRuntime&) = delete;
+  ClRuntime(ClRuntime&&) = default;
+  ClRuntime& operator=(ClRuntime&&) = default;
+
   // Picks the device with `selector` (SPEC syntax; empty: PNF_DEVICE, then the default rule).
   // Throws pnf::Error(device) listing every device found when nothing matches.
   explicit ClRuntime(const std::string& selector);
@@ -28,7 +38,7 @@ class ClRuntime {
   const cl::Device& device() const { return device_; }
   cl::Context& context() { return context_; }
   cl::CommandQueue& queue() { return queue_; }
-  // Largest single buffer the device accepts, in bytes.
+  // Largest single buffer the device accepts, in bytes. Throws pnf::Error(device).
   std::size_t max_alloc_bytes() const;
 
   // The kernel `kernel_name` from embedded file `file`, building the program once per file and
@@ -47,7 +57,7 @@ class ClRuntime {
 };
 
 // Runs `body`, turning a cl::Error into pnf::Error(device) that names the call, the symbolic
-// code and the device.
+// code and the device: a DeviceMemoryError for the allocation codes (is_allocation_failure).
 template <typename Body>
 auto with_cl_errors(const std::string& device_name, Body&& body) -> decltype(body());
 

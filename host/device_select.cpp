@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdlib>
 
 namespace pnf::detail {
 namespace {
@@ -77,13 +76,3 @@ std::string no_device_message(const std::vector<DeviceInfo>& devices, const std:
 }
 
 }  // namespace pnf::detail
-
-namespace pnf {
-
-std::string effective_device_selector(const std::string& selector) {
-  if (!selector.empty()) return selector;
-  const char* env = std::getenv(kDeviceEnvironmentVariable);
-  return env ? std::string(env) : std::string();
-}
-
-}  // namespace pnf

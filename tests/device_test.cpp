@@ -65,7 +65,7 @@ TEST(DeviceSelect, NoMatchMessageListsEveryDevice) {
 
 TEST(Devices, UnmatchedSelectorIsAClearError) {
   try {
-    pnf::NormalFilter filter(pnf::FilterOptions{pnf::Backend::opencl, "no-such-device-xyz"});
+    pnf::NormalFilter filter(pnf::FilterOptions{pnf::Device::opencl("no-such-device-xyz")});
     FAIL() << "constructed a filter on a device that does not exist";
   } catch (const pnf::Error& e) {
     EXPECT_EQ(e.code(), pnf::ErrorCode::device);
@@ -108,6 +108,98 @@ TEST(Devices, AKernelThatFailsToBuildShowsItsBuildLog) {
     EXPECT_NE(what.find("build log"), std::string::npos) << what;
     EXPECT_NE(what.find("PNF_LANES must be 1, 4, 8 or 16"), std::string::npos) << what;
     EXPECT_NE(what.find("pnf_common.h"), std::string::npos) << "the #line markers name the real file: " << what;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(DeviceValue, ParsesEveryFormAndPrintsItBack) {
+  using pnf::Backend;
+  using pnf::Device;
+  EXPECT_EQ(Device::parse("reference"), Device::reference());
+  EXPECT_EQ(Device::parse("Reference"), Device::reference());
+  EXPECT_EQ(Device::parse("opencl"), Device::opencl());
+  EXPECT_EQ(Device::parse(""), Device::opencl());
+  EXPECT_EQ(Device::parse("opencl:gpu"), Device::opencl("gpu"));
+  EXPECT_EQ(Device::parse("opencl:1:0"), Device::opencl("1:0"));
+  EXPECT_EQ(Device::parse("gpu"), Device::opencl("gpu"));  // a bare selector, as PNF_DEVICE has always taken
+  EXPECT_EQ(Device::parse("1:0"), Device::opencl("1:0"));
+  EXPECT_EQ(Device::parse("pocl"), Device::opencl("pocl"));
+  for (const char* text : {"reference", "opencl", "opencl:gpu", "opencl:1:0", "opencl:NVIDIA H200"}) {
+    EXPECT_EQ(Device::parse(text).to_string(), text);
+    EXPECT_EQ(Device::parse(Device::parse(text).to_string()), Device::parse(text)) << text;
+  }
+  try {
+    Device::parse("opencl:");
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_argument);
+    EXPECT_NE(std::string(e.what()).find("no selector after 'opencl:'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DeviceValue, AnEmptySelectorResolvesThroughTheEnvironment) {
+  const char* saved = std::getenv(pnf::kDeviceEnvironmentVariable);
+  const std::string restore = saved ? saved : "";
+  setenv(pnf::kDeviceEnvironmentVariable, "reference", 1);
+  EXPECT_EQ(pnf::Device::opencl().resolved(), pnf::Device::reference());
+  setenv(pnf::kDeviceEnvironmentVariable, "opencl:gpu", 1);
+  EXPECT_EQ(pnf::Device::opencl().resolved(), pnf::Device::opencl("gpu"));
+  EXPECT_EQ(pnf::Device::opencl("cpu").resolved(), pnf::Device::opencl("cpu")) << "a selector in code wins";
+  EXPECT_EQ(pnf::Device::reference().resolved(), pnf::Device::reference());
+  unsetenv(pnf::kDeviceEnvironmentVariable);
+  EXPECT_EQ(pnf::Device::opencl().resolved(), pnf::Device::opencl());
+  if (saved) setenv(pnf::kDeviceEnvironmentVariable, restore.c_str(), 1);
+}
+
+TEST(FilterOptionsValidate, NamesTheFieldAndTheValue) {
+  auto message = [](const pnf::FilterOptions& options) {
+    try {
+      options.validate();
+    } catch (const pnf::Error& e) {
+      EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_argument);
+      return std::string(e.what());
+    }
+    return std::string("(valid)");
+  };
+  EXPECT_EQ(message({}), "(valid)");
+  pnf::FilterOptions o;
+  o.memory.budget_bytes = 0;
+  EXPECT_EQ(message(o), "invalid filter option memory.budget_bytes = 0: must be > 0");
+  o = {};
+  o.memory.max_neighbour_pairs = 0;
+  EXPECT_EQ(message(o), "invalid filter option memory.max_neighbour_pairs = 0: must be > 0");
+  o = {};
+  o.reference_threads = -2;
+  EXPECT_EQ(message(o), "invalid filter option reference_threads = -2: must be >= 0 (0: all cores)");
+  // The constructor validates too.
+  EXPECT_THROW(pnf::NormalFilter{o}, pnf::Error);
+}
+
+TEST(ClRuntime, IsMoveOnly) {
+  static_assert(!std::is_copy_constructible_v<pnf::detail::ClRuntime>);
+  static_assert(!std::is_copy_assignable_v<pnf::detail::ClRuntime>);
+  static_assert(std::is_move_constructible_v<pnf::detail::ClRuntime>);
+}
+
+TEST(WithClErrors, AllocationCodesBecomeTheDeviceMemoryErrorAndOthersADeviceError) {
+  for (cl_int code : {CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES, CL_OUT_OF_HOST_MEMORY,
+                      CL_INVALID_BUFFER_SIZE}) {
+    EXPECT_THROW(pnf::detail::with_cl_errors("dev", [&] { throw cl::Error(code, "clCreateBuffer"); }),
+                 pnf::detail::DeviceMemoryError)
+        << pnf::detail::cl_error_name(code);
+  }
+  try {
+    pnf::detail::with_cl_errors("dev", [] { throw cl::Error(CL_INVALID_KERNEL_ARGS, "clEnqueueNDRangeKernel"); });
+    FAIL() << "no error";
+  } catch (const pnf::detail::DeviceMemoryError&) {
+    FAIL() << "not an allocation failure";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::device);
+    EXPECT_EQ(std::string(e.what()),
+              "OpenCL call clEnqueueNDRangeKernel failed with CL_INVALID_KERNEL_ARGS on device 'dev'");
   }
 }
 

@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+
+#include "opencl_backend.hpp"
 #include "reference_backend.hpp"
+#include "test_backends.hpp"
 #include "test_clouds.hpp"
 
 namespace {
@@ -33,12 +37,22 @@ class RefusingBackend : public FilterBackend {
   double end_pass() override { return inner_->end_pass(); }
   std::size_t device_bytes() const override { return 0; }
   std::vector<double> download_normals() override { return inner_->download_normals(); }
+  void replace_normals(const std::vector<double>& n) override { inner_->replace_normals(n); }
   int refusals = 0;
 
  private:
   std::unique_ptr<FilterBackend> inner_;
   std::size_t limit_;
 };
+
+// The engine on a PointCloud, as NormalFilter::run(PointCloud) calls it.
+pnf::FilterResult run_engine(FilterBackend& backend, const pnf::FilterOptions& options, const pnf::PointCloud& cloud,
+                             const pnf::FilterParams& params, const pnf::ProgressCallback& progress) {
+  pnf::FilterResult result;
+  result.normals.resize(cloud.size());
+  result.summary = pnf::detail::run_filter(backend, options, cloud, result.normals, params, progress);
+  return result;
+}
 
 pnf::PointCloud noisy_sphere(int n, unsigned seed) {
   pnf::PointCloud ball = sphere(n, 5.0, seed);
@@ -50,13 +64,13 @@ pnf::PointCloud noisy_sphere(int n, unsigned seed) {
 TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
   pnf::PointCloud ball = noisy_sphere(3000, 1);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
+  options.device = pnf::Device::reference();
   auto whole_backend = pnf::detail::make_reference_backend(1);
-  pnf::FilterResult whole = pnf::detail::run_filter(*whole_backend, options, ball, {}, {});
+  pnf::FilterResult whole = run_engine(*whole_backend, options, ball, {}, {});
   ASSERT_EQ(whole.summary.chunks, 1u);
 
   RefusingBackend refusing(whole.summary.neighbour_pairs * 4 / 5);  // a fifth of the lists at a time
-  pnf::FilterResult chunked = pnf::detail::run_filter(refusing, options, ball, {}, {});
+  pnf::FilterResult chunked = run_engine(refusing, options, ball, {}, {});
   EXPECT_GE(refusing.refusals, 1);
   EXPECT_GE(chunked.summary.allocation_retries, 1);
   EXPECT_GE(chunked.summary.chunks, 5u);
@@ -66,10 +80,10 @@ TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
 TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {
   pnf::PointCloud ball = noisy_sphere(500, 2);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
+  options.device = pnf::Device::reference();
   RefusingBackend refusing(16);
   try {
-    pnf::detail::run_filter(refusing, options, ball, {}, {});
+    run_engine(refusing, options, ball, {}, {});
     FAIL() << "no error";
   } catch (const pnf::Error& e) {
     EXPECT_EQ(e.code(), pnf::ErrorCode::device);
@@ -86,11 +100,11 @@ TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
   params.units = pnf::Units::absolute;
   params.sigma_f = 100;
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  options.max_neighbour_pairs = std::size_t(1) << 32;
+  options.device = pnf::Device::reference();
+  options.memory.max_neighbour_pairs = std::size_t(1) << 32;
   auto backend = pnf::detail::make_reference_backend(0);
   try {
-    pnf::detail::run_filter(*backend, options, ball, params, {});
+    run_engine(*backend, options, ball, params, {});
     FAIL() << "no error";
   } catch (const pnf::Error& e) {
     const std::string what = e.what();
@@ -98,6 +112,56 @@ TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
     EXPECT_NE(what.find("about 200000 neighbours per point"), std::string::npos) << what;
     EXPECT_NE(what.find("149.0 GiB of lists"), std::string::npos) << what;
   }
+}
+
+TEST(FilterEngine, WorkPastTheTimeLimitIsRefusedFromAProbeWithTheNumbers) {
+  // The same hostile width under the pair limit (4e10 < 2^36): a probe times the device on a few
+  // million pairs and the run, hours long, is refused before any list is built.
+  pnf::PointCloud ball = noisy_sphere(200000, 3);
+  pnf::FilterParams params;
+  params.units = pnf::Units::absolute;
+  params.sigma_f = 100;
+  pnf::FilterOptions options;
+  options.device = pnf::Device::reference();
+  auto backend = pnf::detail::make_reference_backend(0);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    run_engine(*backend, options, ball, params, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_argument);
+    EXPECT_NE(what.find("this run would take about"), std::string::npos) << what;
+    EXPECT_NE(what.find("(200000 per point) times 4 passes"), std::string::npos) << what;
+    EXPECT_NE(what.find("the limit is 10 min"), std::string::npos) << what;
+    EXPECT_NE(what.find("--max-seconds"), std::string::npos) << what;
+  }
+  // Not a timing test: a refusal that took as long as the run would be no refusal at all.
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
+
+}
+
+TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
+  // The probe builds lists and runs the kernel on a piece of the cloud before the real run; that
+  // must leave no trace. With a limit low enough to probe (the work passes max_seconds * 1e7)
+  // but well above what an OpenCL device needs (PoCL here runs 1e8 pairs a second; the margin is
+  // for a loaded machine), the run goes ahead.
+  std::string why;
+  pnf::NormalFilter* unused = pnf::test::opencl_filter(why);
+  if (!unused) GTEST_SKIP() << "no OpenCL device: " << why;
+  pnf::PointCloud ball = noisy_sphere(20000, 5);
+  pnf::FilterOptions options;
+  options.max_seconds = 0;  // no limit, no probe
+  auto backend = pnf::detail::make_opencl_backend("", 0);
+  const pnf::FilterResult plain = run_engine(*backend, options, ball, {}, {});
+  const double work = double(plain.summary.neighbour_pairs) * 5;  // 4 passes and the lists
+  options.max_seconds = work / 1.5e7;
+  ASSERT_GT(work, options.max_seconds * 1e7) << "the run must be probed";
+  const pnf::FilterResult probed = run_engine(*backend, options, ball, {}, {});
+  for (std::size_t i = 0; i < ball.size(); ++i) ASSERT_EQ(probed.normals[i], plain.normals[i]) << i;
+
+  options.max_seconds = work / 1e12;  // faster than any device: refused
+  EXPECT_THROW(run_engine(*backend, options, ball, {}, {}), pnf::Error);
 }
 
 TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
@@ -111,8 +175,8 @@ TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
   }
   auto backend = pnf::detail::make_reference_backend(1);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, line, {}, {});
+  options.device = pnf::Device::reference();
+  pnf::FilterResult r = run_engine(*backend, options, line, {}, {});
   for (std::size_t i = 0; i < line.size(); ++i) {
     EXPECT_NEAR(norm(r.normals[i]), 1.0, 1e-12) << i;
     EXPECT_GT(dot(r.normals[i], line.normals[i]), 0) << i;
@@ -129,8 +193,8 @@ TEST(FilterEngine, ThousandsOfDuplicatesOfOnePointAreFine) {
   }
   auto backend = pnf::detail::make_reference_backend(0);
   pnf::FilterOptions options;
-  options.backend = pnf::Backend::reference;
-  pnf::FilterResult r = pnf::detail::run_filter(*backend, options, cloud, {}, {});
+  options.device = pnf::Device::reference();
+  pnf::FilterResult r = run_engine(*backend, options, cloud, {}, {});
   EXPECT_EQ(r.summary.radius_source, pnf::RadiusSource::estimate);
   EXPECT_NEAR(r.summary.mean_radius, 1.0, 0.25) << "the estimate leaves the duplicates out";
   EXPECT_GE(r.summary.neighbours_max, 5000u);

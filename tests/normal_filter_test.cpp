@@ -161,9 +161,9 @@ TEST_P(NormalFilterTest, ChunkedEqualsWhole) {
   PointCloud ball = sphere(4000, 5.0, 13);
   std::mt19937 rng(14);
   for (Vec3& n : ball.normals) n = jitter_normal(n, 20, rng);
-  pnf::FilterOptions whole_options{GetParam()};
-  pnf::FilterOptions chunked_options{GetParam()};
-  chunked_options.memory_budget_bytes = 200 * 1024;  // a tenth or so of this cloud's lists
+  pnf::FilterOptions whole_options{GetParam() == Backend::reference ? pnf::Device::reference() : pnf::Device::opencl()};
+  pnf::FilterOptions chunked_options = whole_options;
+  chunked_options.memory.budget_bytes = 200 * 1024;  // a tenth or so of this cloud's lists
   pnf::FilterResult whole = NormalFilter(whole_options).run(ball);
   pnf::FilterResult chunked = NormalFilter(chunked_options).run(ball);
   EXPECT_EQ(whole.summary.chunks, 1u);

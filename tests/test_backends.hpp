@@ -22,7 +22,7 @@ inline NormalFilter* opencl_filter(std::string& why) {
   if (!tried) {
     tried = true;
     try {
-      filter = std::make_unique<NormalFilter>(FilterOptions{Backend::opencl});
+      filter = std::make_unique<NormalFilter>(FilterOptions{Device::opencl()});
     } catch (const Error& e) {
       error = e.what();
     }
@@ -32,7 +32,7 @@ inline NormalFilter* opencl_filter(std::string& why) {
 }
 
 inline NormalFilter* reference_filter() {
-  static NormalFilter filter(FilterOptions{Backend::reference});
+  static NormalFilter filter(FilterOptions{Device::reference()});
   return &filter;
 }
 

@@ -181,16 +181,20 @@ inline bool within(double dx, double dy, double dz, double radius2) { return dx 
 }  // namespace
 
 std::vector<std::uint32_t> SpatialIndex::count_within(double radius) const {
-  std::vector<std::uint32_t> counts(point_count_);
+  return count_within(radius, 0, point_count_);
+}
+
+std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count) const {
+  std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
-  for_each_point(radius, 0, point_count_,
+  for_each_point(radius, first, count,
                  [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
                    std::uint32_t n = 0;
                    for (std::size_t c = 0; c < ids.size(); ++c)
                      n += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
-                   counts[i] = n;
+                   counts[i - first] = n;
                  });
   return counts;
 }

@@ -68,6 +68,8 @@ class SpatialIndex {
   // For every point, how many points lie within `radius` of it, the point itself included.
   // Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
+  // The same for points [first, first + count) only: count entries.
+  std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count) const;
 
   // An estimate of the sum of count_within(radius) from a sample of points spread through the
   // cloud: cheap when that sum is huge (cost: samples x neighbours), so a run can be refused

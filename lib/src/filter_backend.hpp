@@ -6,7 +6,7 @@
 #include <string>
 
 #include <vector>
-#include "pnf/error.hpp"
+#include "device_memory_error.hpp"
 
 namespace pnf::detail {
 
@@ -18,10 +18,6 @@ struct Coefficients {
 
 // Thrown by a backend when the device refuses an allocation (out of device memory or
 // resources); the engine then retries with smaller chunks.
-class DeviceMemoryError : public Error {
- public:
-  explicit DeviceMemoryError(const std::string& message) : Error(ErrorCode::device, message) {}
-};
 
 struct ListStorage {
   std::uint64_t* offsets = nullptr;  // count + 1
@@ -53,6 +49,8 @@ class FilterBackend {
   virtual std::size_t device_bytes() const = 0;
   // The current normals, N by 3.
   virtual std::vector<double> download_normals() = 0;
+  // Replaces the current normals (N by 3, unit), between passes: a distributed run's halo.
+  virtual void replace_normals(const std::vector<double>& normals) = 0;
 };
 
 }  // namespace pnf::detail

@@ -25,31 +25,38 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // The cloud in the order and frame the backends see: along the Morton curve, re-centred on the
-// bounding-box centre in double before anything becomes float (SPEC, "Numerics").
+// bounding-box centre in double before anything becomes float (SPEC, "Numerics"). In a
+// distributed part the owned points come first, each group in curve order.
 struct OrderedCloud {
-  std::vector<std::uint32_t> order;  // order[k] = input index of point k
+  std::vector<std::uint32_t> order;  // order[k] = view index of point k
   std::vector<double> positions;     // N by 3
   std::vector<double> normals;       // N by 3, unit
 };
 
-OrderedCloud order_cloud(const PointCloud& cloud, const std::vector<double>& unit) {
+OrderedCloud order_cloud(const CloudView& cloud, std::size_t owned) {
   OrderedCloud out;
   out.order = morton_order(cloud.positions);
+  if (owned < cloud.size()) {
+    std::stable_partition(out.order.begin(), out.order.end(), [&](std::uint32_t i) { return i < owned; });
+  }
   const Vec3 centre = bounding_box(cloud.positions).centre();
   const std::size_t n = cloud.size();
   out.positions.resize(3 * n);
   out.normals.resize(3 * n);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t i = out.order[k];
+    const Vec3 normal = cloud.normals.at(i);
+    // Normalised here, in double: the only copy of the normals the engine makes.
+    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     for (int c = 0; c < 3; ++c) {
-      out.positions[3 * k + c] = cloud.positions[i][c] - centre[c];
-      out.normals[3 * k + c] = unit[3 * i + c];
+      out.positions[3 * k + c] = cloud.positions.get(i, c) - centre[c];
+      out.normals[3 * k + c] = normal[c] / length;
     }
   }
   return out;
 }
 
-double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, const SpatialIndex& search,
+double resolve_mean_radius(const CloudView& cloud, const FilterParams& params, const SpatialIndex& search,
                            RadiusSource& source) {
   if (params.units == Units::absolute) {
     source = RadiusSource::not_used;
@@ -61,14 +68,14 @@ double resolve_mean_radius(const PointCloud& cloud, const FilterParams& params, 
   return radius.value;
 }
 
-// Mean angle in degrees between two N by 3 arrays of unit vectors (atan2: exact near 0).
-double mean_angle_deg(const std::vector<double>& a, const std::vector<double>& b) {
+// Sum of the angles in degrees between the first `count` rows of two N by 3 arrays of unit
+// vectors (atan2: exact near 0).
+double sum_angle_deg(const std::vector<double>& a, const std::vector<double>& b, std::size_t count) {
   double sum = 0;
-  const std::size_t n = a.size() / 3;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
     sum += geometry::angle_radians({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
   }
-  return n > 0 ? sum / double(n) * 180.0 / geometry::kPi : 0.0;
+  return sum * 180.0 / geometry::kPi;
 }
 
 std::string gib(double bytes) {
@@ -78,39 +85,95 @@ std::string gib(double bytes) {
 }
 
 // Refuses, before the exact count, a neighbourhood so wide that the lists would pass
-// options.max_neighbour_pairs (every point neighbouring every other, say): that count alone
-// would take hours. A sample of points gives the estimate.
-void check_pair_estimate(const SpatialIndex& search, double reach, const FilterOptions& options,
-                         const FilterSummary& summary) {
+// options.memory.max_neighbour_pairs (every point neighbouring every other, say): that count
+// alone would take hours. A sample of points gives the estimate, which is returned.
+double check_pair_estimate(const SpatialIndex& search, double reach, const FilterOptions& options,
+                           const FilterSummary& summary) {
   const double estimate = search.estimate_pairs(reach);
-  if (estimate <= double(options.max_neighbour_pairs)) return;
+  if (estimate <= double(options.memory.max_neighbour_pairs)) return estimate;
   const double per_point = estimate / double(search.size());
   throw Error(ErrorCode::invalid_argument,
               "sigma_f = " + std::to_string(summary.sigma_f) + " model units gives about " +
                   std::to_string(std::llround(per_point)) + " neighbours per point, about " +
                   std::to_string(std::llround(estimate)) + " neighbour pairs (" + gib(estimate * 4) +
                   " of lists, as many kernel evaluations per pass), more than the limit of " +
-                  std::to_string(options.max_neighbour_pairs) +
-                  " pairs; lower sigma_f, or raise FilterOptions::max_neighbour_pairs");
+                  std::to_string(options.memory.max_neighbour_pairs) +
+                  " pairs; lower sigma_f, or raise MemoryPolicy::max_neighbour_pairs (pnf filter --max-pairs)");
+}
+
+// No device is slower than this (pair evaluations per second; the double reference on one core
+// does about 2e7): work below max_seconds times this runs without a speed probe.
+constexpr double kSlowestPairsPerSecond = 1e7;
+// The probe times about this many pairs: milliseconds on a GPU, tens of them on a CPU.
+constexpr double kProbePairs = 4e6;
+
+// Times this device on a compact piece of the cloud (consecutive points along the curve, in
+// its middle): building their lists, and one kernel pass over them. Returns the estimated
+// seconds of the whole run, lists and passes, for `pairs` neighbour pairs per pass.
+double estimate_run_seconds(FilterBackend& backend, const SpatialIndex& search, const OrderedCloud& ordered,
+                            std::size_t owned, double reach, double pairs, int passes,
+                            const Coefficients& coefficients) {
+  const double per_point = std::max(1.0, pairs / double(std::max<std::size_t>(owned, 1)));
+  const std::size_t m = std::clamp<std::size_t>(std::size_t(kProbePairs / per_point), 1, owned);
+  const std::size_t first = (owned - m) / 2;
+  auto start = Clock::now();
+  std::vector<std::uint32_t> counts(first, 0);
+  const std::vector<std::uint32_t> probed = search.count_within(reach, first, m);
+  counts.insert(counts.end(), probed.begin(), probed.end());
+  const std::size_t probe_pairs = std::accumulate(probed.begin(), probed.end(), std::size_t(0));
+  backend.upload_cloud(search.positions(), ordered.normals);
+  ListStorage storage = backend.begin_lists(first, m, probe_pairs);
+  search.fill_lists(reach, first, m, counts, storage.offsets, storage.indices);
+  backend.end_lists();
+  const double list_seconds = seconds_since(start);
+  start = Clock::now();
+  backend.run_chunk(coefficients);
+  double kernel_seconds = backend.end_pass();  // device time; the caller uploads the cloud again
+  if (!(kernel_seconds > 0)) kernel_seconds = seconds_since(start);
+  const double scale = pairs / double(std::max<std::size_t>(probe_pairs, 1));
+  return scale * (list_seconds + double(passes) * kernel_seconds);
+}
+
+std::string seconds_text(double seconds) {
+  char text[64];
+  if (seconds < 120) {
+    std::snprintf(text, sizeof text, "%.0f s", seconds);
+  } else if (seconds < 7200) {
+    std::snprintf(text, sizeof text, "%.0f min", seconds / 60);
+  } else {
+    std::snprintf(text, sizeof text, "%.1f h", seconds / 3600);
+  }
+  return text;
 }
 
 }  // namespace
 
-FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, const PointCloud& cloud,
-                        const FilterParams& params, const ProgressCallback& progress) {
+FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
+                         MutableVec3ArrayView normals_out, const FilterParams& params,
+                         const ProgressCallback& progress, const DistributedPart* part) {
   params.validate();
   check_cloud(cloud, CloudRequirements::filter());
+  const std::size_t owned = part ? part->owned : cloud.size();
+  if (owned > cloud.size()) {
+    throw Error(ErrorCode::invalid_argument, "a distributed part owns " + std::to_string(owned) + " of " +
+                                                 std::to_string(cloud.size()) + " points");
+  }
+  if (normals_out.count != owned) {
+    throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
+                                                 " rows for " + std::to_string(owned) + " points");
+  }
+  if (part && params.units == Units::radius && !(params.mean_radius > 0)) {
+    throw Error(ErrorCode::invalid_argument, "a distributed part needs the mean radius given (params.mean_radius)");
+  }
 
-  FilterResult result;
-  FilterSummary& summary = result.summary;
-  summary.points = cloud.size();
-  summary.backend = to_string(options.backend);
+  FilterSummary summary;
+  summary.points = owned;
+  summary.backend = to_string(options.device.backend);
   summary.device = backend.description();
-  if (cloud.size() == 0) return result;
+  if (cloud.size() == 0) return summary;
 
-  const std::vector<double> unit = unit_normals(cloud.normals);
   auto start = Clock::now();
-  OrderedCloud ordered = order_cloud(cloud, unit);
+  OrderedCloud ordered = order_cloud(cloud, owned);
   const SpatialIndex search(std::move(ordered.positions));  // no copy: the tree searches them in place
   summary.mean_radius = resolve_mean_radius(cloud, params, search, summary.radius_source);
   const double scale = params.units == Units::radius ? summary.mean_radius : 1.0;
@@ -118,24 +181,50 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   summary.sigma_g = params.sigma_g * scale;
   const double reach = PNF_SUPPORT_IN_SIGMA_F * summary.sigma_f;
   // Counted before any list is allocated, so the memory is known first (SPEC, "Neighbour lists").
-  check_pair_estimate(search, reach, options, summary);
-  const std::vector<std::uint32_t> counts = search.count_within(reach);
-  summary.neighbour_pairs = std::accumulate(counts.begin(), counts.end(), std::size_t(0));
-  summary.neighbours_mean = double(summary.neighbour_pairs) / double(cloud.size());
-  summary.neighbours_max = *std::max_element(counts.begin(), counts.end());
-  summary.neighbour_seconds = seconds_since(start);
-
-  if (params.iterations == 0) {
-    result.normals.resize(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) result.normals[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
-    return result;
-  }
-
+  const double pair_estimate = check_pair_estimate(search, reach, options, summary);
   const pnf_coeffs c = pnf_make_coeffs(summary.sigma_f, summary.sigma_g);
   const Coefficients coefficients{c.inv_two_sigma_f2, c.inv_two_sigma_g2};
-  std::size_t budget = options.memory_budget_bytes;
+  // Work that would run past options.max_seconds is refused before the lists are built.
+  const double owned_pairs = pair_estimate * double(owned) / double(cloud.size());
+  const double work = owned_pairs * double(params.iterations + 1);  // the lists cost about one pass
+  if (options.max_seconds > 0 && owned > 0 && work > options.max_seconds * kSlowestPairsPerSecond) {
+    const double seconds =
+        estimate_run_seconds(backend, search, ordered, owned, reach, owned_pairs, params.iterations, coefficients);
+    if (seconds > options.max_seconds) {
+      throw Error(ErrorCode::invalid_argument,
+                  "this run would take about " + seconds_text(seconds) + " on " + summary.device + ": about " +
+                      std::to_string(std::llround(owned_pairs)) + " neighbour pairs (" +
+                      std::to_string(std::llround(owned_pairs / double(owned))) + " per point) times " +
+                      std::to_string(params.iterations) + " passes, timed on a sample; the limit is " +
+                      seconds_text(options.max_seconds) +
+                      ". Lower sigma_f, or raise FilterOptions::max_seconds (pnf filter --max-seconds, 0: no limit)");
+    }
+  }
+  const std::vector<std::uint32_t> counts = search.count_within(reach, 0, owned);  // halo points get no lists
+  summary.neighbour_pairs = std::accumulate(counts.begin(), counts.end(), std::size_t(0));
+  summary.neighbours_mean = owned > 0 ? double(summary.neighbour_pairs) / double(owned) : 0.0;
+  summary.neighbours_max = owned > 0 ? *std::max_element(counts.begin(), counts.end()) : 0;
+  summary.neighbour_seconds = seconds_since(start);
+
+  // Writes the ordered normals' owned rows into the caller's buffer, re-normalised in double
+  // (float32 unit vectors are unit only to about 1e-7).
+  auto write_out = [&](const std::vector<double>& normals) {
+    for (std::size_t k = 0; k < owned; ++k) {
+      const double* n = &normals[3 * k];
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      normals_out.set(ordered.order[k], {n[0] / len, n[1] / len, n[2] / len});
+    }
+  };
+  if (params.iterations == 0) {
+    write_out(ordered.normals);
+    return summary;
+  }
+
+  std::size_t budget = options.memory.budget_bytes;
+  std::vector<double> halo(3 * (cloud.size() - owned));
   for (;;) {
-    const std::vector<Chunk> chunks = plan_chunks(counts, budget, backend.max_list_bytes());
+    const std::vector<Chunk> chunks = owned > 0 ? plan_chunks(counts, budget, backend.max_list_bytes())
+                                                : std::vector<Chunk>{};
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
@@ -173,14 +262,30 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());
+        std::vector<double> current;
+        if (part) {
+          // The halo's rows of the new normals were not computed here: their owners send them.
+          current = backend.download_normals();
+          std::vector<double> mine(current.size() - halo.size());
+          for (std::size_t k = 0; k < owned; ++k) {
+            for (int c = 0; c < 3; ++c) mine[3 * ordered.order[k] + c] = current[3 * k + c];
+          }
+          part->exchange_halo(mine, halo);
+          for (std::size_t k = owned; k < cloud.size(); ++k) {
+            for (int c = 0; c < 3; ++c) current[3 * k + c] = halo[3 * (ordered.order[k] - owned) + c];
+          }
+          backend.replace_normals(current);
+        }
         summary.pass_seconds.push_back(seconds_since(pass_start));
         summary.passes_run = pass;
         if (progress && !progress(PassProgress{pass, params.iterations, summary.pass_seconds.back()})) {
           throw Error(ErrorCode::cancelled, "cancelled after pass " + std::to_string(pass));
         }
         if (params.stop_change_deg > 0) {
-          std::vector<double> current = backend.download_normals();
-          summary.mean_change_deg.push_back(mean_angle_deg(previous, current));
+          if (!part) current = backend.download_normals();
+          double totals[2] = {sum_angle_deg(previous, current, owned), double(owned)};
+          if (part && part->sum_over_processes) part->sum_over_processes(totals, 2);
+          summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / totals[1] : 0.0);
           if (summary.mean_change_deg.back() < params.stop_change_deg) break;
           previous.swap(current);
         }
@@ -197,15 +302,8 @@ FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, co
   }
 
   summary.device_bytes = backend.device_bytes();
-  const std::vector<double> out = backend.download_normals();
-  result.normals.resize(cloud.size());
-  for (std::size_t k = 0; k < cloud.size(); ++k) {
-    // Re-normalised in double: float32 unit vectors are unit only to about 1e-7.
-    Vec3 n = {out[3 * k], out[3 * k + 1], out[3 * k + 2]};
-    double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    result.normals[ordered.order[k]] = {n[0] / len, n[1] / len, n[2] / len};
-  }
-  return result;
+  write_out(backend.download_normals());
+  return summary;
 }
 
 }  // namespace pnf::detail

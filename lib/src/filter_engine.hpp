@@ -2,15 +2,35 @@
 // neighbour counting, chunk planning, passes, progress, and mapping back to input order.
 #pragma once
 
+#include <functional>
+#include <vector>
+
 #include "filter_backend.hpp"
 #include "pnf/normal_filter.hpp"
 
 namespace pnf::detail {
 
+// One process's share of a distributed run (pnf/mpi.hpp): the view's first `owned` points are
+// this process's; the rest are its halo, other processes' points within reach of its own. Lists
+// are built and normals computed for the owned points only; the halo's normals come from their
+// owners after every pass.
+struct DistributedPart {
+  std::size_t owned = 0;
+  // Called after every pass with the owned points' new normals (owned by 3, view order); fills
+  // `halo` ((N - owned) by 3, view order) with the halo's new normals from their owners.
+  std::function<void(const std::vector<double>& owned_normals, std::vector<double>& halo)> exchange_halo;
+  // Sums values over every process (the stop rule's change and its point count), so every
+  // process takes the same decision. Identity when empty.
+  std::function<void(double* values, int count)> sum_over_processes;
+};
+
 // NormalFilter::run on `backend` (see normal_filter.hpp for the contract). When the backend
 // reports that the device refused an allocation (DeviceMemoryError), the run starts over with
-// chunks half the size of the one refused, down to a single point's list.
-FilterResult run_filter(FilterBackend& backend, const FilterOptions& options, const PointCloud& cloud,
-                        const FilterParams& params, const ProgressCallback& progress);
+// chunks half the size of the one refused, down to a single point's list. With `part`, only the
+// owned points are filtered and written (normals_out has `owned` rows), and the mean radius must
+// be given (params.mean_radius, or absolute units): one process cannot estimate it for all.
+FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
+                         MutableVec3ArrayView normals_out, const FilterParams& params,
+                         const ProgressCallback& progress, const DistributedPart* part = nullptr);
 
 }  // namespace pnf::detail

@@ -1,13 +1,21 @@
 #include "pnf/normal_filter.hpp"
 
+#include <cmath>
+
 #include "filter_engine.hpp"
+#include "filter_factory.hpp"
 #include "opencl_backend.hpp"
 #include "pnf/error.hpp"
 #include "reference_backend.hpp"
 
 namespace pnf {
+namespace {
 
-const char* to_string(Backend backend) { return backend == Backend::opencl ? "opencl" : "reference"; }
+[[noreturn]] void bad_option(const std::string& field, const std::string& value, const std::string& rule) {
+  throw Error(ErrorCode::invalid_argument, "invalid filter option " + field + " = " + value + ": " + rule);
+}
+
+}  // namespace
 
 const char* to_string(RadiusSource source) {
   switch (source) {
@@ -19,36 +27,67 @@ const char* to_string(RadiusSource source) {
   return "unknown";
 }
 
+void MemoryPolicy::validate() const {
+  if (budget_bytes == 0) bad_option("memory.budget_bytes", "0", "must be > 0");
+  if (max_neighbour_pairs == 0) bad_option("memory.max_neighbour_pairs", "0", "must be > 0");
+}
+
+void FilterOptions::validate() const {
+  if (device.backend != Backend::opencl && device.backend != Backend::reference) {
+    bad_option("device.backend", std::to_string(int(device.backend)), "must be opencl or reference");
+  }
+  memory.validate();
+  if (!(std::isfinite(max_seconds) && max_seconds >= 0)) {
+    bad_option("max_seconds", std::to_string(max_seconds), "must be >= 0 and finite (0: no limit)");
+  }
+  if (reference_threads < 0) {
+    bad_option("reference_threads", std::to_string(reference_threads), "must be >= 0 (0: all cores)");
+  }
+}
+
 struct NormalFilter::Impl {
   FilterOptions options;
   std::unique_ptr<detail::FilterBackend> backend;
 };
 
-NormalFilter::NormalFilter(const FilterOptions& options) : impl_(std::make_unique<Impl>()) {
-  if (options.memory_budget_bytes == 0) {
-    throw Error(ErrorCode::invalid_argument, "invalid filter option memory_budget_bytes = 0: must be > 0");
+NormalFilter detail::FilterFactory::with_lanes(const FilterOptions& options, int lanes) {
+  options.validate();
+  if (lanes != 0 && lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16) {
+    bad_option("lanes", std::to_string(lanes), "must be 0 (the device type's default), 1, 4, 8 or 16");
   }
-  if (options.threads < 0) {
-    throw Error(ErrorCode::invalid_argument,
-                "invalid filter option threads = " + std::to_string(options.threads) + ": must be >= 0 (0: all cores)");
-  }
-  if (options.lanes != 0 && options.lanes != 1 && options.lanes != 4 && options.lanes != 8 && options.lanes != 16) {
-    throw Error(ErrorCode::invalid_argument,
-                "invalid filter option lanes = " + std::to_string(options.lanes) + ": must be 0 (auto), 1, 4, 8 or 16");
-  }
-  impl_->options = options;
-  impl_->backend = options.backend == Backend::opencl ? detail::make_opencl_backend(options.device, options.lanes)
-                                                      : detail::make_reference_backend(options.threads);
+  auto impl = std::make_unique<NormalFilter::Impl>();
+  impl->options = options;
+  impl->options.device = options.device.resolved();
+  impl->backend = impl->options.device.backend == Backend::opencl
+                      ? make_opencl_backend(impl->options.device.selector, lanes)
+                      : make_reference_backend(options.reference_threads);
+  return NormalFilter(std::move(impl));
 }
 
+NormalFilter::NormalFilter(const FilterOptions& options)
+    : NormalFilter(detail::FilterFactory::with_lanes(options, 0)) {}
+NormalFilter::NormalFilter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 NormalFilter::~NormalFilter() = default;
 NormalFilter::NormalFilter(NormalFilter&&) noexcept = default;
 NormalFilter& NormalFilter::operator=(NormalFilter&&) noexcept = default;
 
 std::string NormalFilter::device_description() const { return impl_->backend->description(); }
 
+FilterSummary NormalFilter::run(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
+                                const ProgressCallback& progress) {
+  return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress);
+}
+
 FilterResult NormalFilter::run(const PointCloud& cloud, const FilterParams& params, const ProgressCallback& progress) {
-  return detail::run_filter(*impl_->backend, impl_->options, cloud, params, progress);
+  FilterResult result;
+  result.normals.resize(cloud.size());
+  result.summary = run(CloudView(cloud), MutableVec3ArrayView(result.normals), params, progress);
+  return result;
+}
+
+FilterSummary improve_normals(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
+                              const FilterOptions& options, const ProgressCallback& progress) {
+  return NormalFilter(options).run(cloud, normals_out, params, progress);
 }
 
 FilterResult improve_normals(const PointCloud& cloud, const FilterParams& params, const FilterOptions& options) {

@@ -27,7 +27,7 @@ class OpenClBackend : public FilterBackend {
   std::string description() const override {
     return runtime_.description() + ", " + std::to_string(lanes_) + " lane" + (lanes_ == 1 ? "" : "s");
   }
-  std::size_t max_list_bytes() const override { return runtime_.max_alloc_bytes(); }
+  std::size_t max_list_bytes() const override { return runtime_.max_alloc_bytes(); }  // maps cl::Error itself
 
   void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) override {
     guarded([&] {
@@ -129,23 +129,17 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
+  void replace_normals(const std::vector<double>& normals) override {
+    guarded([&] {
+      std::vector<float> n = to_float(normals);
+      runtime_.queue().enqueueWriteBuffer(current_, CL_TRUE, 0, n.size() * sizeof(float), n.data());
+    });
+  }
+
  private:
-  // Turns cl::Error into pnf::Error; a refused allocation into DeviceMemoryError, which the
-  // engine answers with smaller chunks.
   template <typename Body>
   auto guarded(Body&& body) -> decltype(body()) {
-    try {
-      return body();
-    } catch (const cl::Error& e) {
-      const cl_int code = e.err();
-      const std::string what = std::string("OpenCL call ") + e.what() + " failed with " + cl_error_name(code) +
-                               " on device '" + runtime_.info().device_name + "'";
-      if (code == CL_MEM_OBJECT_ALLOCATION_FAILURE || code == CL_OUT_OF_RESOURCES || code == CL_OUT_OF_HOST_MEMORY ||
-          code == CL_INVALID_BUFFER_SIZE) {
-        throw DeviceMemoryError(what);
-      }
-      throw Error(ErrorCode::device, what);
-    }
+    return with_cl_errors(runtime_.info().device_name, std::forward<Body>(body));
   }
 
   ClRuntime runtime_;

@@ -60,6 +60,7 @@ class ReferenceBackend : public FilterBackend {
   std::size_t device_bytes() const override { return 0; }
 
   std::vector<double> download_normals() override { return current_; }
+  void replace_normals(const std::vector<double>& normals) override { current_ = normals; }
 
  private:
   int threads_;

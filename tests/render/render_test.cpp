@@ -176,7 +176,7 @@ TEST(RenderPoints, FilteringANoisyPlaneLowersPixelVariance) {
   const double before = interior_variance(render_points(plane, options));
 
   FilterOptions filter_options;
-  filter_options.backend = Backend::reference;
+  filter_options.device = Device::reference();
   PointCloud filtered = plane;
   filtered.normals = NormalFilter(filter_options).run(plane).normals;
   const double after = interior_variance(render_points(filtered, options));

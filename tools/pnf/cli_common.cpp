@@ -70,18 +70,19 @@ int guarded(Stage& stage, const std::function<int()>& body) {
 
 void DeviceFlags::add_to(CLI::App& app, bool with_backend) {
   app.add_option("--device", device,
-                 "OpenCL device: cpu, gpu, accelerator, P:D, or part of a name (default: $PNF_DEVICE, "
-                 "else the first GPU, else the first CPU)");
+                 "where to run: reference (CPU, double), opencl, opencl:SELECTOR or SELECTOR, where SELECTOR is "
+                 "cpu, gpu, accelerator, P:D or part of a name (default: $PNF_DEVICE, else the first GPU, else "
+                 "the first CPU)");
   if (with_backend) {
-    app.add_option("--backend", backend, "opencl (default) or reference (double precision, CPU, no OpenCL)")
+    app.add_option("--backend", backend,
+                   "opencl (default) or reference (double precision, CPU, no OpenCL); same as --device reference")
         ->check(CLI::IsMember({"opencl", "reference"}));
   }
 }
 
 FilterOptions DeviceFlags::options() const {
   FilterOptions o;
-  o.backend = backend == "reference" ? Backend::reference : Backend::opencl;
-  o.device = device;
+  o.device = backend == "reference" ? Device::reference() : Device::parse(device);
   return o;
 }
 

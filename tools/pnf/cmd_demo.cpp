@@ -89,14 +89,17 @@ Command add_demo_command(CLI::App& parent) {
   auto flags = std::make_shared<DemoFlags>();
   CLI::App* app = parent.add_subcommand(
       "demo", "Make a noisy synthetic scan with sharp edges, filter it, and report the improvement");
-  app->add_option("--points", flags->points, "about how many points (default 100000)")
+  app->add_option("--points", flags->points, "about how many points")
+      ->capture_default_str()
       ->check(CLI::Range(100, 100000000));
-  app->add_option("--dir", flags->dir, "folder for house_noisy.ply and house_filtered.ply (default pnf-demo)");
-  app->add_option("--position-noise", flags->noise.position, "in sample spacings (default 0.1)")
+  app->add_option("--dir", flags->dir, "folder for house_noisy.ply and house_filtered.ply")->capture_default_str();
+  app->add_option("--position-noise", flags->noise.position, "in sample spacings")
+      ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app->add_option("--normal-noise", flags->noise.normal_degrees, "in degrees (default 15)")
+  app->add_option("--normal-noise", flags->noise.normal_degrees, "in degrees")
+      ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app->add_option("--seed", flags->noise.seed, "random seed (default 1)");
+  app->add_option("--seed", flags->noise.seed, "random seed")->capture_default_str();
   flags->device.add_to(*app);
   return {app, [flags] { return run_demo(*flags); }};
 }

@@ -10,12 +10,17 @@
 namespace pnf::cli {
 namespace {
 
+constexpr double kMiB = 1024.0 * 1024.0;
+
 struct FilterFlags {
   std::string in, out;
   FilterParams params;
   std::string units = "radius";
   double radius = 0;
-  double memory_mib = 0;
+  // Shown in --help as the library's default, never restated.
+  double memory_mib = double(MemoryPolicy{}.budget_bytes) / kMiB;
+  std::size_t max_pairs = MemoryPolicy{}.max_neighbour_pairs;
+  double max_seconds = FilterOptions{}.max_seconds;
   DeviceFlags device;
   bool ascii = false, quiet = false, in_place = false;
   bool automatic = false;   // --auto: sigma_f, sigma_g and passes from the data
@@ -101,7 +106,10 @@ int run_filter(const FilterFlags& flags) {
       if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
     }
     FilterOptions options = flags.device.options();
-    if (flags.memory_mib > 0) options.memory_budget_bytes = static_cast<std::size_t>(flags.memory_mib * 1024 * 1024);
+    options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
+    options.memory.max_neighbour_pairs = flags.max_pairs;
+    options.max_seconds = flags.max_seconds;
+    options.validate();
     NormalFilter filter(options);
     FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;
@@ -120,15 +128,21 @@ Command add_filter_command(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand("filter", "Improve the normals of a point file (Jones, Durand, Zwicker 2004)");
   app->add_option("IN", flags->in, "input point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
+  // Defaults shown in the help are the library's (FilterParams{}, MemoryPolicy{}), captured from
+  // the flags' initial values, never written here.
   CLI::Option* sigma_f =
-      app->add_option("--sigma-f", flags->params.sigma_f, "spatial width; neighbours reach 2 sigma_f (default 4)");
-  CLI::Option* sigma_g = app->add_option("--sigma-g", flags->params.sigma_g,
-                                         "feature width: distance to a neighbour's plane (default 0.5)");
-  CLI::Option* iterations = app->add_option("--iterations", flags->params.iterations,
-                                            "number of passes, or the most passes with --stop-change (default 4)");
+      app->add_option("--sigma-f", flags->params.sigma_f, "spatial width; neighbours reach 2 sigma_f")
+          ->capture_default_str();
+  CLI::Option* sigma_g =
+      app->add_option("--sigma-g", flags->params.sigma_g, "feature width: distance to a neighbour's plane")
+          ->capture_default_str();
+  CLI::Option* iterations =
+      app->add_option("--iterations", flags->params.iterations, "number of passes, or the most passes with --stop-change")
+          ->capture_default_str();
   CLI::Option* units =
-      app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii (default); absolute: model units")
-          ->check(CLI::IsMember({"radius", "absolute"}));
+      app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii; absolute: model units")
+          ->check(CLI::IsMember({"radius", "absolute"}))
+          ->capture_default_str();
   CLI::Option* radius =
       app->add_option("--radius", flags->radius,
                       "mean surfel radius in model units (default: mean of the radius property, else estimated)");
@@ -140,9 +154,17 @@ Command add_filter_command(CLI::App& parent) {
                   "end the passes once the mean change of the normals falls below DEG degrees (default: off; "
                   "--auto sets 0.01; 0 turns it off)")
       ->check(CLI::NonNegativeNumber);
-  app->add_option("--memory-budget", flags->memory_mib,
-                  "MiB of neighbour lists kept at once; larger clouds run in chunks (default 1024)")
-      ->check(CLI::NonNegativeNumber);
+  app->add_option("--memory-budget", flags->memory_mib, "MiB of neighbour lists kept at once; larger clouds run in chunks")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app->add_option("--max-pairs", flags->max_pairs,
+                  "refuse runs whose neighbour lists would pass this many pairs (estimated before they are built)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app->add_option("--max-seconds", flags->max_seconds,
+                  "refuse runs estimated (by timing this device on a sample) to take longer; 0: no limit")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
   app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");

@@ -89,8 +89,9 @@ int run_render(const RenderCommandFlags& flags) {
 
 void RenderFlags::add_to(CLI::App& app, bool panel_size) {
   const std::string per = panel_size ? " of each panel" : "";
-  app.add_option("--width", options.width, "image width" + per + " in pixels, 1 to 16384 (default 640)");
-  app.add_option("--height", options.height, "image height" + per + " in pixels, 1 to 16384 (default 480)");
+  // Numeric defaults in the help are RenderOptions{}'s, captured, never restated.
+  app.add_option("--width", options.width, "image width" + per + " in pixels, 1 to 16384")->capture_default_str();
+  app.add_option("--height", options.height, "image height" + per + " in pixels, 1 to 16384")->capture_default_str();
   app.add_option("--view", view,
                  "AZIMUTH,ELEVATION in degrees (default 0,0: looking down -z with +y up; azimuth turns about "
                  "+y, elevation -90..90 raises the camera)");
@@ -99,9 +100,11 @@ void RenderFlags::add_to(CLI::App& app, bool panel_size) {
                  "(default -0.5,0.6,1)");
   app.add_option("--radius-scale", options.radius_scale,
                  "surfel radius as a multiple of the point spacing (the radius property, else the spacing "
-                 "estimate the filter uses); default 1.2, which leaves no holes in a uniformly sampled surface");
+                 "estimate the filter uses); the default leaves no holes in a uniformly sampled surface")
+      ->capture_default_str();
   app.add_option("--error-max", options.error_max_degrees,
-                 "error colours: angles at or above this many degrees get the top colour (default 30)");
+                 "error colours: angles at or above this many degrees get the top colour")
+      ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
 }
 

@@ -1,0 +1,207 @@
+"""pnf: clean point normals with sharp features kept (Jones, Durand and Zwicker 2004).
+
+numpy in, numpy out. Arrays of points and normals are (N, 3), float32 or float64, in any
+layout: C order, Fortran order, a slice such as ``a[:, 3:6]`` of a wider array, a negative step.
+Those are read in place, without a copy. Anything else numpy can turn into real numbers (lists,
+integer or float16 arrays, byte-swapped, unaligned or broadcast arrays) is first copied into a
+new float64 array. Results are new C-ordered float64 arrays (uint8 for images).
+
+improve_normals(..., out=array) writes the result into an array of the caller's (for example
+an Open3D cloud's own normals) instead of a new one.
+
+The GIL is released while the library runs, so other Python threads go on; the arrays passed in
+must not be changed by them meanwhile.
+
+Errors: bad shapes, dtypes, NaN and bad parameters raise ValueError with pnf's message; file
+problems OSError; device problems DeviceError (a RuntimeError); a progress callback that returns
+False raises Cancelled (a RuntimeError), and Ctrl-C between passes KeyboardInterrupt.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _pnf
+from ._pnf import AutoChoice, Cancelled, DataEstimate, DeviceError, DeviceInfo, PointFile
+
+__all__ = [
+    "improve_normals",
+    "choose_params",
+    "estimate_normals",
+    "read",
+    "write",
+    "devices",
+    "render",
+    "PointFile",
+    "AutoChoice",
+    "DataEstimate",
+    "DeviceInfo",
+    "DeviceError",
+    "Cancelled",
+]
+__version__ = "0.1.0"
+
+ArrayLike = Any  # an (N, 3) or (N,) array, or anything numpy.asarray accepts
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def improve_normals(
+    points: ArrayLike,
+    normals: ArrayLike,
+    *,
+    sigma_f: float = 4.0,
+    sigma_g: float = 0.5,
+    iterations: int = 4,
+    units: str = "radius",
+    mean_radius: Optional[float] = None,
+    auto: bool = False,
+    device: Optional[str] = None,
+    backend: str = "opencl",
+    progress: Optional[Callable[[int, int, float], Optional[bool]]] = None,
+    radii: Optional[ArrayLike] = None,
+    stop_change_deg: Optional[float] = None,
+    out: Optional[ArrayLike] = None,
+) -> Any:
+    """Improves the normals of a point cloud; returns the new (N, 3) float64 unit normals.
+
+    points, normals: (N, 3) arrays (float32 or float64 read in place, see the module's doc);
+        normals are oriented and need not be unit length.
+    sigma_f: width of the spatial Gaussian; neighbours reach 2 sigma_f. Default 4.
+    sigma_g: width of the feature Gaussian on the distance to a neighbour's tangent plane;
+        smaller keeps edges sharper. Default 0.5.
+    iterations: passes, each using the previous pass's normals. Default 4.
+    units: "radius" (sigmas are multiples of the mean surfel radius) or "absolute" (model units).
+    mean_radius: the mean surfel radius in model units; None: the mean of `radii` when given,
+        else estimated from the points (the median distance to the 4 nearest).
+    auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto`` (see
+        choose_params); then sigma_f, sigma_g, iterations, units and mean_radius must be left
+        at their defaults.
+    device: where to run, as pnf::Device::parse reads it: an OpenCL selector ("cpu", "gpu",
+        "accelerator", "P:D" as devices() shows, or part of a name such as "pocl"), the same
+        prefixed ("opencl:gpu"), or "reference"; None: the PNF_DEVICE variable, else the first
+        GPU, else the first CPU.
+    backend: "opencl" (float32 kernels, on `device`) or "reference" (double-precision C++ on
+        all cores, no OpenCL needed; `device` must then be None or "reference").
+    progress: called as progress(pass_done, passes, seconds) after each pass; returning False
+        cancels the run (Cancelled is raised). Ctrl-C also cancels between passes.
+    radii: optional (N,) surfel radii.
+    stop_change_deg: end the passes once the normals change less than this on average
+        (degrees); None: off, or the rule's 0.01 with auto=True.
+    out: an (N, 3) float32 or float64 array (or buffer, such as an Open3D cloud's normals) to
+        write the result into instead of a new array, and return; it must be writable and may
+        be `normals` itself (they are read before anything is written), not `points`.
+
+    Raises ValueError (bad parameters or data), DeviceError, Cancelled, KeyboardInterrupt.
+    """
+    return _pnf.improve_normals(
+        points, normals, float(sigma_f), float(sigma_g), int(iterations), units, mean_radius, bool(auto),
+        device, backend, progress, radii, stop_change_deg, out,
+    )
+
+
+def choose_params(points: ArrayLike, normals: Optional[ArrayLike] = None) -> AutoChoice:
+    """What ``pnf filter --auto`` would pick for this cloud, and what it measured.
+
+    Needs N >= 16 points. Returns an AutoChoice: sigma_f, sigma_g, iterations, stop_change_deg,
+    units, mean_radius (pnf's one mean radius, as `pnf info` reports it), rule (one line of text),
+    estimate (a DataEstimate: mean_radius, area_spacing, position_noise, normal_noise_deg,
+    feature_share, curved_share, ...), and kwargs, a
+    dict to pass on: ``pnf.improve_normals(p, n, **choice.kwargs)`` equals ``auto=True``.
+    """
+    return _pnf.choose_params(points, normals)
+
+
+def estimate_normals(
+    points: ArrayLike, k: int = 16, orient: str = "mst", viewpoint: Sequence[float] = (0.0, 0.0, 0.0)
+) -> np.ndarray:
+    """Oriented unit normals for points that have none: a PCA fit over each point and its k
+    nearest others, oriented by `orient`: "mst" (minimum spanning tree propagation, Hoppe 1992),
+    "outward" (away from the centroid) or "viewpoint" (toward `viewpoint`). Needs N >= 3 and
+    k >= 3. Returns an (N, 3) float64 array. The points are currently copied once (to the
+    library's std::vector input).
+    """
+    return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
+
+
+def read(path: PathLike) -> PointFile:
+    """Reads a point file (.ply in any encoding, .xyz, .xyzn, .pwn) losslessly: the PointFile
+    keeps every element, property, comment and value, and writes them back unchanged.
+
+    Raises OSError when the file cannot be read, ValueError when it is malformed.
+    """
+    return _pnf.read(path)
+
+
+def write(
+    path: PathLike,
+    file_or_points: Union[PointFile, ArrayLike],
+    normals: Optional[ArrayLike] = None,
+    *,
+    radii: Optional[ArrayLike] = None,
+    ascii: bool = False,
+) -> None:
+    """Writes a point file; the format follows the extension.
+
+    write(path, file): writes a PointFile (from read, perhaps with new normals) with everything
+        it carries. `normals`, when given, replace the file's normals in the written file only.
+    write(path, points, normals=None, radii=None): writes a new file of double x y z
+        [nx ny nz] [radius].
+    ascii: PLY only, write ascii instead of binary little endian.
+    The file is written to a temporary name and renamed into place. Raises OSError on failure.
+    """
+    if isinstance(file_or_points, PointFile):
+        file = file_or_points
+        if normals is not None:
+            file = file.copy()
+            file.normals = normals
+        if radii is not None:
+            raise ValueError("radii cannot be replaced in an existing PointFile")
+    else:
+        file = PointFile(file_or_points, normals, radii)
+    file.write(path, bool(ascii))
+
+
+def devices(selector: Optional[str] = None) -> list[DeviceInfo]:
+    """Every OpenCL device, with `selected` set on the one `selector` (or PNF_DEVICE, or the
+    default rule) picks. An empty list when there is no OpenCL platform."""
+    return _pnf.devices(selector)
+
+
+def render(
+    points: ArrayLike,
+    normals: ArrayLike,
+    *,
+    radii: Optional[ArrayLike] = None,
+    width: int = 640,
+    height: int = 480,
+    azimuth: float = 0.0,
+    elevation: float = 0.0,
+    light: Sequence[float] = (-0.5, 0.6, 1.0),
+    mode: str = "shaded",
+    reference_normals: Optional[ArrayLike] = None,
+    error_max: float = 30.0,
+    radius_scale: float = 1.2,
+    frame: Optional[Tuple[Sequence[float], Sequence[float]]] = None,
+    threads: int = 0,
+) -> np.ndarray:
+    """Draws the cloud as lit surfels (orthographic camera, white background); returns an
+    (height, width, 3) uint8 RGB image, rows top to bottom.
+
+    mode: "shaded" (Blinn-Phong grey), "normals" (colour n * 0.5 + 0.5) or "error" (angle to
+        reference_normals on a viridis scale up to error_max degrees, with a colour bar).
+    azimuth, elevation: view direction in degrees (+y up; 0, 0 looks from +z).
+    light: direction toward the light in camera coordinates.
+    frame: ((xmin, ymin, zmin), (xmax, ymax, zmax)) the camera frames; None: the cloud's box.
+    The inputs are currently copied once (render_points takes a PointCloud).
+    """
+    frame_arg = None
+    if frame is not None:
+        frame_arg = (tuple(float(v) for v in frame[0]), tuple(float(v) for v in frame[1]))
+    return _pnf.render(
+        points, normals, radii, int(width), int(height), float(azimuth), float(elevation),
+        tuple(float(v) for v in light), mode, reference_normals, float(error_max), float(radius_scale),
+        frame_arg, int(threads),
+    )

@@ -1,0 +1,150 @@
+# Type stubs of the extension module pnf._pnf. The functions are called through the package
+# pnf (python/pnf/__init__.py, which carries their defaults and docstrings); the classes and
+# exceptions are used as they are.
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+_Path = Union[str, os.PathLike[str]]
+
+class DeviceError(RuntimeError):
+    """No OpenCL platform or no matching device, or a kernel that failed to build or run."""
+
+class Cancelled(RuntimeError):
+    """The progress callback returned False."""
+
+class DataEstimate:
+    """What choose_params measured (auto_params.hpp); lengths in model units."""
+    @property
+    def points(self) -> int: ...
+    @property
+    def samples(self) -> int: ...
+    @property
+    def mean_radius(self) -> float:
+        """pnf's one mean surfel radius (the radius property's mean, else the estimate)."""
+    @property
+    def radius_source(self) -> str: ...
+    @property
+    def area_spacing(self) -> float:
+        """sqrt(area per point): the unit of the --auto rule, not the mean radius."""
+    @property
+    def position_noise(self) -> float: ...
+    @property
+    def position_noise_area_spacings(self) -> float: ...
+    @property
+    def normal_noise_deg(self) -> float:
+        """RMS angle of the input normals to fitted quadrics; -1 without normals."""
+    @property
+    def fit_neighbours(self) -> int: ...
+    @property
+    def fit_radius(self) -> float: ...
+    @property
+    def feature_share(self) -> float: ...
+    @property
+    def curved_share(self) -> float: ...
+    @property
+    def normal_error_correlation(self) -> float: ...
+
+class AutoChoice:
+    """The parameters `pnf filter --auto` picks, and what it measured."""
+    @property
+    def sigma_f(self) -> float: ...
+    @property
+    def sigma_g(self) -> float: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def stop_change_deg(self) -> float: ...
+    @property
+    def units(self) -> str: ...
+    @property
+    def mean_radius(self) -> float: ...
+    @property
+    def estimate(self) -> DataEstimate: ...
+    @property
+    def rule(self) -> str: ...
+    @property
+    def kwargs(self) -> dict[str, Any]:
+        """Keyword arguments for improve_normals that reproduce auto=True."""
+
+class DeviceInfo:
+    """One OpenCL device as the driver reports it (device.hpp)."""
+    @property
+    def platform_index(self) -> int: ...
+    @property
+    def device_index(self) -> int: ...
+    @property
+    def platform_name(self) -> str: ...
+    @property
+    def platform_vendor(self) -> str: ...
+    @property
+    def device_name(self) -> str: ...
+    @property
+    def device_vendor(self) -> str: ...
+    @property
+    def type(self) -> str:
+        """"cpu", "gpu", "accelerator" or "other"."""
+    @property
+    def version(self) -> str: ...
+    @property
+    def driver_version(self) -> str: ...
+    @property
+    def selected(self) -> bool: ...
+    @property
+    def selector(self) -> str:
+        """"P:D", the selector that picks exactly this device."""
+
+class PointFile:
+    """The contents of a point file, kept whole: every element, property, comment and value.
+
+    PointFile(points, normals=None, radii=None) makes a new one (double x y z [nx ny nz] [radius]).
+    """
+    def __init__(self, points: Any, normals: Optional[Any] = None, radii: Optional[Any] = None) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def points(self) -> np.ndarray:
+        """(N, 3) float64 positions: a new array on each access (the file keeps its own types)."""
+    @property
+    def normals(self) -> Optional[np.ndarray]:
+        """(N, 3) float64 normals, or None. Setting stores them in the file's declared type
+        (float stays float), adding float nx ny nz to a PLY that had none."""
+    @normals.setter
+    def normals(self, value: Any) -> None: ...
+    @property
+    def radii(self) -> Optional[np.ndarray]:
+        """(N,) float64 values of the vertex property `radius`, or None."""
+    @property
+    def format(self) -> str:
+        """"ply", "xyz", "xyzn" or "pwn": what the file was read from."""
+    @property
+    def encoding(self) -> str:
+        """"ascii", "binary_little_endian" or "binary_big_endian"."""
+    @property
+    def elements(self) -> list[dict[str, Any]]:
+        """Each element as {"name", "count", "properties": [(name, type), ...]}."""
+    @property
+    def comments(self) -> list[str]:
+        """The header's comment and obj_info lines."""
+    def write(self, path: _Path, ascii: bool) -> None: ...
+    def copy(self) -> PointFile: ...
+
+def improve_normals(
+    points: Any, normals: Any, sigma_f: float, sigma_g: float, iterations: int, units: str,
+    mean_radius: Optional[float], auto: bool, device: Optional[str], backend: str,
+    progress: Optional[Callable[[int, int, float], Optional[bool]]], radii: Optional[Any],
+    stop_change_deg: Optional[float], out: Optional[Any],
+) -> Any: ...
+def choose_params(points: Any, normals: Optional[Any]) -> AutoChoice: ...
+def estimate_normals(points: Any, k: int, orient: str, viewpoint: Tuple[float, float, float]) -> np.ndarray: ...
+def devices(selector: Optional[str]) -> list[DeviceInfo]: ...
+def render(
+    points: Any, normals: Any, radii: Optional[Any], width: int, height: int, azimuth: float, elevation: float,
+    light: Tuple[float, float, float], mode: str, reference_normals: Optional[Any], error_max: float,
+    radius_scale: float, frame: Optional[Tuple[Sequence[float], Sequence[float]]], threads: int,
+) -> np.ndarray: ...
+def read(path: _Path) -> PointFile: ...
+def _view_info(array: Any) -> dict[str, Any]:
+    """What the binding makes of an array (address, dtype, strides, copied); for tests."""

@@ -1,0 +1,339 @@
+// pnf._pnf: the pnf library for Python. The public face (names, docstrings, stubs) is the
+// package pnf (python/pnf/__init__.py and _pnf.pyi); this file binds the C++ API.
+//
+// Every call converts its arrays with the GIL held (arrays.hpp says which are read in place),
+// then releases the GIL while the library runs.
+#include <pybind11/stl.h>
+
+#include <exception>
+#include <optional>
+#include <string>
+
+#include "arrays.hpp"
+#include "bindings.hpp"
+#include "convert.hpp"
+#include "errors.hpp"
+#include "pnf/auto_params.hpp"
+#include "pnf/device.hpp"
+#include "pnf/error.hpp"
+#include "pnf/estimate_normals.hpp"
+#include "pnf/normal_filter.hpp"
+#include "pnf/render.hpp"
+
+namespace pnf::python {
+namespace {
+
+using namespace pybind11::literals;
+
+Units parse_units(const std::string& units) {
+  if (units == "radius") return Units::radius;
+  if (units == "absolute") return Units::absolute;
+  throw Error(ErrorCode::invalid_argument, "units must be \"radius\" or \"absolute\", got \"" + units + "\"");
+}
+
+// backend "reference" is the reference; "opencl" takes `device` as Device::parse reads it
+// ("gpu", "pocl", "1:0", "opencl:cpu", even "reference"), None meaning PNF_DEVICE or the default
+// rule. The same mapping as the CLI's --backend and --device.
+FilterOptions filter_options(const std::optional<std::string>& device, const std::string& backend) {
+  FilterOptions options;
+  if (backend == "reference") {
+    if (device && Device::parse(*device) != Device::reference()) {
+      throw Error(ErrorCode::invalid_argument,
+                  "backend=\"reference\" runs on the CPU; device=\"" + *device + "\" needs backend=\"opencl\"");
+    }
+    options.device = Device::reference();
+  } else if (backend == "opencl") {
+    options.device = Device::parse(device.value_or(""));
+  } else {
+    throw Error(ErrorCode::invalid_argument, "backend must be \"opencl\" or \"reference\", got \"" + backend + "\"");
+  }
+  options.validate();
+  return options;
+}
+
+// The progress callback the library calls after each pass, with the GIL released. It takes the
+// GIL back to run Python's signal handlers (so Ctrl-C raises KeyboardInterrupt between passes)
+// and the user's callable. Any Python exception is kept in `pending` and cancels the run; the
+// caller rethrows it in place of pnf::Error(cancelled).
+ProgressCallback python_progress(const py::object& callable, std::exception_ptr& pending) {
+  // Captures by reference only: the library may copy the std::function without the GIL.
+  return [&callable, &pending](const PassProgress& p) -> bool {
+    py::gil_scoped_acquire gil;
+    try {
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!callable.is_none()) {
+        py::object answer = callable(p.pass, p.passes, p.seconds);
+        if (answer.ptr() == Py_False) return false;
+      }
+      return true;
+    } catch (...) {
+      pending = std::current_exception();
+      return false;
+    }
+  };
+}
+
+// Runs `body` with the GIL released; a Python exception raised in the progress callback
+// replaces the cancellation it caused.
+template <typename Body>
+void run_released(std::exception_ptr& pending, Body&& body) {
+  try {
+    py::gil_scoped_release nogil;
+    body();
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::cancelled && pending) std::rethrow_exception(pending);
+    throw;
+  }
+  if (pending) std::rethrow_exception(pending);
+}
+
+const FilterParams kDefaultParams{};
+
+py::object improve_normals(py::handle points, py::handle normals, double sigma_f, double sigma_g, int iterations,
+                           const std::string& units, std::optional<double> mean_radius, bool automatic,
+                           const std::optional<std::string>& device, const std::string& backend,
+                           const py::object& progress, py::handle radii, std::optional<double> stop_change_deg,
+                           py::handle out_array) {
+  FilterParams params;
+  params.sigma_f = sigma_f;
+  params.sigma_g = sigma_g;
+  params.iterations = iterations;
+  params.units = parse_units(units);
+  params.mean_radius = mean_radius.value_or(0.0);
+  if (automatic) {
+    // As `pnf filter --auto`, which refuses these flags: the rule sets all of them.
+    if (sigma_f != kDefaultParams.sigma_f || sigma_g != kDefaultParams.sigma_g ||
+        iterations != kDefaultParams.iterations || params.units != kDefaultParams.units || mean_radius) {
+      throw Error(ErrorCode::invalid_argument,
+                  "auto=True chooses sigma_f, sigma_g, iterations, units and mean_radius; do not pass them too");
+    }
+  }
+  if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
+    throw Error(ErrorCode::invalid_argument, "progress must be callable or None");
+  }
+  params.validate();
+  const FilterOptions options = filter_options(device, backend);
+
+  Vec3Input p(points, "points");
+  Vec3Input n(normals, "normals");
+  check_same_size("normals", n.size(), "points", p.size());
+  std::optional<ScalarInput> r;
+  if (!radii.is_none()) {
+    r.emplace(radii, "radii");
+    check_same_size("radii", r->size(), "points", p.size());
+  }
+  const CloudView view(p.view(), n.view(), r ? r->view() : ScalarArrayView{});
+  // The result goes into `out` when given (it may be the normals themselves: the library reads
+  // them before it writes), else into a new array.
+  Vec3Output out;
+  std::optional<Vec3InOut> given_out;
+  if (!out_array.is_none()) {
+    given_out.emplace(out_array, "out");
+    check_same_size("out", given_out->size(), "points", p.size());
+    if (py::module_::import("numpy").attr("may_share_memory")(given_out->array(), p.array()).cast<bool>()) {
+      throw Error(ErrorCode::invalid_argument, "out must not overlap points");
+    }
+    out.array = py::reinterpret_borrow<py::object>(out_array);
+    out.view = given_out->view();
+  } else {
+    out = new_vec3_array(p.size());
+  }
+
+  std::exception_ptr pending;
+  const ProgressCallback callback = python_progress(progress, pending);
+  run_released(pending, [&] {
+    FilterParams run_params = params;
+    if (automatic) {
+      // TEMPORARY until choose_filter_params(CloudView) lands on main: a PointCloud copy.
+      run_params = choose_filter_params(to_point_cloud(view)).params;
+    }
+    if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
+    // Reads the caller's arrays in place and writes straight into the result array.
+    NormalFilter filter(options);
+    filter.run(view, out.view, run_params, callback);
+  });
+  return out.array;
+}
+
+AutoChoice choose_params(py::handle points, py::handle normals) {
+  Vec3Input p(points, "points");
+  std::optional<Vec3Input> n;
+  if (!normals.is_none()) {
+    n.emplace(normals, "normals");
+    check_same_size("normals", n->size(), "points", p.size());
+  }
+  const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
+  py::gil_scoped_release nogil;
+  // TEMPORARY until choose_filter_params(CloudView) lands: a PointCloud copy.
+  return choose_filter_params(to_point_cloud(view));
+}
+
+py::object estimate(py::handle points, int k, const std::string& orient, const std::array<double, 3>& viewpoint) {
+  EstimateParams params;
+  params.k = k;
+  params.orientation = parse_orientation(orient);
+  params.viewpoint = viewpoint;
+  params.validate();
+  Vec3Input p(points, "points");
+  Vec3Output out = new_vec3_array(p.size());
+  {
+    py::gil_scoped_release nogil;
+    // TEMPORARY until estimate_normals(Vec3ArrayView, MutableVec3ArrayView) lands: copies in and out.
+    const std::vector<Vec3> normals = estimate_normals(to_vectors(p.view()), params);
+    for (std::size_t i = 0; i < normals.size(); ++i) out.view.set(i, normals[i]);
+  }
+  return out.array;
+}
+
+RenderMode parse_mode(const std::string& mode) {
+  if (mode == "shaded") return RenderMode::shaded;
+  if (mode == "normals") return RenderMode::normals;
+  if (mode == "error") return RenderMode::error;
+  throw Error(ErrorCode::invalid_argument, "mode must be \"shaded\", \"normals\" or \"error\", got \"" + mode + "\"");
+}
+
+py::object render(py::handle points, py::handle normals, py::handle radii, int width, int height, double azimuth,
+                  double elevation, const std::array<double, 3>& light, const std::string& mode,
+                  py::handle reference_normals, double error_max, double radius_scale,
+                  const std::optional<std::pair<std::array<double, 3>, std::array<double, 3>>>& frame, int threads) {
+  RenderOptions options;
+  options.width = width;
+  options.height = height;
+  options.azimuth_degrees = azimuth;
+  options.elevation_degrees = elevation;
+  options.light = light;
+  options.mode = parse_mode(mode);
+  options.error_max_degrees = error_max;
+  options.radius_scale = radius_scale;
+  if (frame) options.frame = BoundingBox{frame->first, frame->second};
+  options.threads = threads;
+  options.validate();
+
+  Vec3Input p(points, "points");
+  Vec3Input n(normals, "normals");
+  check_same_size("normals", n.size(), "points", p.size());
+  std::optional<ScalarInput> r;
+  if (!radii.is_none()) {
+    r.emplace(radii, "radii");
+    check_same_size("radii", r->size(), "points", p.size());
+  }
+  std::optional<Vec3Input> reference;
+  if (!reference_normals.is_none()) {
+    reference.emplace(reference_normals, "reference_normals");
+    check_same_size("reference_normals", reference->size(), "points", p.size());
+  }
+  const CloudView view(p.view(), n.view(), r ? r->view() : ScalarArrayView{});
+  unsigned char* pixels = nullptr;
+  py::object image = new_image_array(std::size_t(height), std::size_t(width), &pixels);
+  {
+    py::gil_scoped_release nogil;
+    // TEMPORARY until a view overload of render_points exists: a PointCloud copy.
+    const Image drawn =
+        render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{}, options);
+    std::copy(drawn.rgb.begin(), drawn.rgb.end(), pixels);
+  }
+  return image;
+}
+
+// For the tests of the no-copy claim: what the binding makes of an array, without running
+// anything. The address is the one the library reads.
+py::dict view_info(py::handle array) {
+  Vec3Input input(array, "array");
+  const Vec3ArrayView& v = input.view();
+  return py::dict("data"_a = reinterpret_cast<std::uintptr_t>(v.data), "count"_a = v.count,
+                  "dtype"_a = to_string(v.type), "row_stride"_a = v.row_step(),
+                  "component_stride"_a = v.component_step(), "copied"_a = input.copied());
+}
+
+void bind_results(py::module_& m) {
+  py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (auto_params.hpp); lengths in model units.")
+      .def_readonly("points", &DataEstimate::points)
+      .def_readonly("samples", &DataEstimate::samples)
+      .def_readonly("mean_radius", &DataEstimate::mean_radius)
+      .def_property_readonly("radius_source", [](const DataEstimate& e) { return std::string(to_string(e.radius_source)); })
+      .def_readonly("area_spacing", &DataEstimate::area_spacing)
+      .def_readonly("position_noise", &DataEstimate::position_noise)
+      .def_readonly("normal_noise_deg", &DataEstimate::normal_noise_deg)
+      .def_readonly("fit_neighbours", &DataEstimate::fit_neighbours)
+      .def_readonly("fit_radius", &DataEstimate::fit_radius)
+      .def_readonly("feature_share", &DataEstimate::feature_share)
+      .def_readonly("curved_share", &DataEstimate::curved_share)
+      .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
+      .def_property_readonly("position_noise_area_spacings", &DataEstimate::position_noise_area_spacings)
+      .def("__repr__", [](const DataEstimate& e) {
+        return py::str(
+                   "DataEstimate(points={}, mean_radius={:.6g}, area_spacing={:.6g}, position_noise={:.4g}, "
+                   "normal_noise_deg={:.3g}, "
+                   "feature_share={:.3f}, curved_share={:.3f})")
+            .format(e.points, e.mean_radius, e.area_spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
+      });
+  py::class_<AutoChoice>(m, "AutoChoice", "The parameters `pnf filter --auto` picks, and what it measured.")
+      .def_property_readonly("sigma_f", [](const AutoChoice& c) { return c.params.sigma_f; })
+      .def_property_readonly("sigma_g", [](const AutoChoice& c) { return c.params.sigma_g; })
+      .def_property_readonly("iterations", [](const AutoChoice& c) { return c.params.iterations; })
+      .def_property_readonly("stop_change_deg", [](const AutoChoice& c) { return c.params.stop_change_deg; })
+      .def_property_readonly("units", [](const AutoChoice& c) { return std::string(to_string(c.params.units)); })
+      .def_property_readonly("mean_radius", [](const AutoChoice& c) { return c.params.mean_radius; })
+      .def_readonly("estimate", &AutoChoice::estimate)
+      .def_readonly("rule", &AutoChoice::rule)
+      .def_property_readonly("kwargs",
+                             [](const AutoChoice& c) {
+                               const FilterParams& f = c.params;
+                               return py::dict("sigma_f"_a = f.sigma_f, "sigma_g"_a = f.sigma_g,
+                                               "iterations"_a = f.iterations, "units"_a = to_string(f.units),
+                                               "mean_radius"_a = f.mean_radius,
+                                               "stop_change_deg"_a = f.stop_change_deg);
+                             })
+      .def("__repr__", [](const AutoChoice& c) { return "AutoChoice(" + c.rule + ")"; });
+  py::class_<DeviceInfo>(m, "DeviceInfo", "One OpenCL device as the driver reports it (device.hpp).")
+      .def_readonly("platform_index", &DeviceInfo::platform_index)
+      .def_readonly("device_index", &DeviceInfo::device_index)
+      .def_readonly("platform_name", &DeviceInfo::platform_name)
+      .def_readonly("platform_vendor", &DeviceInfo::platform_vendor)
+      .def_readonly("device_name", &DeviceInfo::device_name)
+      .def_readonly("device_vendor", &DeviceInfo::device_vendor)
+      .def_readonly("type", &DeviceInfo::type)
+      .def_readonly("version", &DeviceInfo::version)
+      .def_readonly("driver_version", &DeviceInfo::driver_version)
+      .def_readonly("selected", &DeviceInfo::selected)
+      .def_property_readonly(
+          "selector",
+          [](const DeviceInfo& d) { return std::to_string(d.platform_index) + ":" + std::to_string(d.device_index); })
+      .def("__repr__", [](const DeviceInfo& d) {
+        return py::str("DeviceInfo({}:{} {} '{}' on '{}'{})")
+            .format(d.platform_index, d.device_index, d.type, d.device_name, d.platform_name,
+                    d.selected ? ", selected" : "");
+      });
+}
+
+}  // namespace
+}  // namespace pnf::python
+
+PYBIND11_MODULE(_pnf, m) {
+  namespace py = pybind11;
+  using namespace pybind11::literals;
+  using namespace pnf::python;
+  m.doc() = "pnf C++ bindings; use the package pnf.";
+  register_errors(m);
+  bind_results(m);
+  bind_point_file(m);
+
+  // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
+  m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
+        "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
+        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true));
+  m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true));
+  m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
+  m.def(
+      "devices",
+      [](const std::optional<std::string>& selector) {
+        const std::string s = selector.value_or("");
+        py::gil_scoped_release nogil;
+        return pnf::list_devices(s);
+      },
+      "selector"_a.none(true));
+  m.def("render", &render, "points"_a, "normals"_a, "radii"_a.none(true), "width"_a, "height"_a, "azimuth"_a,
+        "elevation"_a, "light"_a, "mode"_a, "reference_normals"_a.none(true), "error_max"_a, "radius_scale"_a,
+        "frame"_a.none(true), "threads"_a);
+  m.def("_view_info", &view_info, "array"_a);
+}

@@ -1,0 +1,81 @@
+"""Shared clouds and helpers for the tests of the Python module."""
+
+from __future__ import annotations
+
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import pnf
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+def noisy_cube(points_per_edge: int = 16, normal_noise: float = 0.15, position_noise: float = 0.01, seed: int = 1):
+    """A unit cube's six faces sampled on grids (spacing 2 / (points_per_edge - 1)), positions
+    jittered along the normal and normals tilted at random: (points, noisy normals, true normals)."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(-1.0, 1.0, points_per_edge)
+    u, v = (a.ravel() for a in np.meshgrid(t, t))
+    points, truth = [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            p = np.empty((u.size, 3))
+            p[:, axis] = sign
+            p[:, (axis + 1) % 3] = u
+            p[:, (axis + 2) % 3] = v
+            n = np.zeros_like(p)
+            n[:, axis] = sign
+            points.append(p)
+            truth.append(n)
+    points = np.concatenate(points)
+    truth = np.concatenate(truth)
+    points = points + truth * rng.normal(0.0, position_noise, (len(points), 1))
+    normals = truth + rng.normal(0.0, normal_noise, points.shape)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return points, normals, truth
+
+
+def angles_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Angle between matching rows of two (N, 3) arrays, in degrees (atan2: exact near 0)."""
+    cross = np.linalg.norm(np.cross(a, b), axis=1)
+    dot = np.einsum("ij,ij->i", a, b)
+    return np.degrees(np.arctan2(cross, dot))
+
+
+def opencl_available() -> bool:
+    try:
+        return any(d.selected for d in pnf.devices())
+    except pnf.DeviceError:
+        return False
+
+
+def backend_param(backend: str) -> str:
+    """The backend, or a skip (a failure when PNF_DEVICE asks for a device) without OpenCL."""
+    if backend == "opencl" and not opencl_available():
+        message = "no OpenCL device found (pnf.devices() selects none)"
+        if os.environ.get("PNF_DEVICE"):
+            pytest.fail(f"PNF_DEVICE={os.environ['PNF_DEVICE']} is set but {message}")
+        pytest.skip(message)
+    return backend
+
+
+@pytest.fixture(params=["reference", "opencl"])
+def backend(request) -> str:
+    return backend_param(request.param)
+
+
+@pytest.fixture
+def cube():
+    return noisy_cube()
+
+
+@pytest.fixture
+def cli() -> pathlib.Path:
+    """The pnf command-line tool: $PNF_CLI, else build/tools/pnf of this checkout."""
+    path = pathlib.Path(os.environ.get("PNF_CLI", REPO / "build" / "tools" / "pnf"))
+    if not path.is_file():
+        pytest.skip(f"the pnf CLI is not built at {path} (bash scripts/build.sh builds it; or set PNF_CLI)")
+    return path

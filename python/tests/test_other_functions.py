@@ -1,0 +1,73 @@
+"""estimate_normals, choose_params, devices, render."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import pnf
+from conftest import angles_deg, noisy_cube
+
+
+def sphere(n: int = 2000, seed: int = 3) -> np.ndarray:
+    # Fibonacci sphere: even, deterministic.
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    r = np.sqrt(1 - z * z)
+    phi = np.pi * (1 + 5**0.5) * i
+    return np.c_[r * np.cos(phi), r * np.sin(phi), z]
+
+
+def test_estimate_normals_on_a_sphere_point_outward():
+    points = sphere()
+    for orient in ("mst", "outward"):
+        normals = pnf.estimate_normals(points, k=12, orient=orient)
+        assert normals.shape == points.shape and normals.dtype == np.float64
+        np.testing.assert_allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-9)
+        assert angles_deg(normals, points).max() < 5.0, orient
+    inward = pnf.estimate_normals(points, orient="viewpoint", viewpoint=(0, 0, 0))
+    assert (np.einsum("ij,ij->i", inward, points) < 0).all()
+
+
+def test_estimate_accepts_float32():
+    points = sphere().astype(np.float32)
+    np.testing.assert_array_equal(pnf.estimate_normals(points),
+                                  pnf.estimate_normals(points.astype(np.float64)))
+
+
+def test_choose_params_reports_what_it_measured():
+    points, normals, _ = noisy_cube(20)
+    choice = pnf.choose_params(points, normals)
+    assert choice.sigma_f > 0 and choice.sigma_g > 0 and choice.iterations >= 0
+    assert choice.units == "radius" and choice.mean_radius == choice.estimate.mean_radius
+    spacing = 2 / 19
+    assert 0.8 * spacing < choice.estimate.area_spacing < 1.25 * spacing
+    assert choice.estimate.points == len(points) and choice.estimate.normal_noise_deg > 0
+    assert choice.estimate.feature_share > 0.05  # a cube has edges
+    assert "sigma_f" in choice.rule
+    assert set(choice.kwargs) == {"sigma_f", "sigma_g", "iterations", "units", "mean_radius", "stop_change_deg"}
+    without = pnf.choose_params(points)
+    assert without.estimate.normal_noise_deg == -1
+
+
+def test_devices():
+    found = pnf.devices()
+    assert isinstance(found, list)
+    assert sum(d.selected for d in found) <= 1
+    for d in found:
+        assert d.type in ("cpu", "gpu", "accelerator", "other")
+        assert d.selector == f"{d.platform_index}:{d.device_index}"
+        assert d.device_name in repr(d)
+    assert not any(d.selected for d in pnf.devices("no-such-device-anywhere"))
+
+
+def test_render_returns_an_rgb_image():
+    points, normals, truth = noisy_cube(20)
+    image = pnf.render(points, normals, width=120, height=90, azimuth=30, elevation=20)
+    assert image.shape == (90, 120, 3) and image.dtype == np.uint8
+    assert (image != 255).any() and (image == 255).any()  # a model on a white background
+    colours = pnf.render(points, truth, width=120, height=90, mode="normals", azimuth=30, elevation=20)
+    assert not np.array_equal(colours, image)
+    error = pnf.render(points, normals, width=160, height=90, mode="error", reference_normals=truth)
+    assert error.shape == (90, 160, 3)
+    framed = pnf.render(points, normals, width=64, height=64, frame=((-2, -2, -2), (2, 2, 2)))
+    assert framed.shape == (64, 64, 3)

@@ -1,0 +1,124 @@
+"""pnf.read / pnf.write / pnf.PointFile: lossless, numpy in and out."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+import pytest
+
+import pnf
+from conftest import noisy_cube
+
+# A PLY with what pnf does not use: comments, obj_info, a uchar colour and an int label per
+# vertex, a face element with a list property, and float normals.
+HEADER = """ply
+format ascii 1.0
+comment made by hand for the pnf Python tests
+obj_info scanner none
+element vertex {n}
+property float x
+property float y
+property float z
+property uchar red
+property float nx
+property float ny
+property float nz
+property int label
+element face 2
+property list uchar int vertex_indices
+property uchar flags
+end_header
+"""
+
+
+def write_extra_ply(path: pathlib.Path, points: np.ndarray, normals: np.ndarray) -> list[str]:
+    lines = HEADER.format(n=len(points)).splitlines()
+    for i, (p, n) in enumerate(zip(points, normals)):
+        lines.append(f"{p[0]:.6g} {p[1]:.6g} {p[2]:.6g} {i % 256} {n[0]:.6g} {n[1]:.6g} {n[2]:.6g} {i * 7 - 30}")
+    lines += ["3 0 1 2 5", "4 3 4 5 6 250"]
+    path.write_text("\n".join(lines) + "\n")
+    return lines
+
+
+def test_read_gives_points_and_normals_as_float64(tmp_path):
+    points, normals, _ = noisy_cube(6)
+    path = tmp_path / "extra.ply"
+    write_extra_ply(path, points, normals)
+    f = pnf.read(str(path))
+    assert len(f) == len(points) and f.format == "ply" and f.encoding == "ascii"
+    assert f.points.dtype == np.float64 and f.points.shape == points.shape
+    np.testing.assert_allclose(f.points, points, atol=1e-5)
+    np.testing.assert_allclose(f.normals, normals, atol=1e-5)
+    assert f.radii is None
+    assert [e["name"] for e in f.elements] == ["vertex", "face"]
+    assert ("vertex_indices", "list uchar int") in f.elements[1]["properties"]
+    assert f.comments == ["comment made by hand for the pnf Python tests", "obj_info scanner none"]
+
+
+def test_everything_but_the_normals_survives_filtering(tmp_path):
+    points, normals, _ = noisy_cube(6)
+    source = tmp_path / "extra.ply"
+    lines = write_extra_ply(source, points, normals)
+    f = pnf.read(source)
+
+    # Unchanged, in its own encoding: byte for byte.
+    f.write(tmp_path / "same.ply", ascii=True)
+    assert (tmp_path / "same.ply").read_text() == source.read_text()
+
+    new = pnf.improve_normals(f.points, f.normals, backend="reference")
+    f.normals = new
+    pnf.write(tmp_path / "filtered.ply", f, ascii=True)
+    out = (tmp_path / "filtered.ply").read_text().splitlines()
+    header_end = lines.index("end_header") + 1
+    assert out[:header_end] == lines[:header_end]
+    assert out[-2:] == lines[-2:]  # the faces
+    for i, (before, after) in enumerate(zip(lines[header_end:-2], out[header_end:-2])):
+        b, a = before.split(), after.split()
+        assert a[:4] == b[:4] and a[7] == b[7], f"vertex {i}: {before!r} -> {after!r}"
+    np.testing.assert_allclose(pnf.read(tmp_path / "filtered.ply").normals, new, atol=1e-6)  # stored as float
+
+    # Binary and back: the same elements and values.
+    pnf.write(tmp_path / "filtered_bin.ply", f)
+    again = pnf.read(tmp_path / "filtered_bin.ply")
+    assert again.encoding == "binary_little_endian" and again.elements == f.elements
+    np.testing.assert_array_equal(again.normals, f.normals)
+
+
+def test_write_points_and_normals_is_exact(tmp_path):
+    points, normals, _ = noisy_cube(5)
+    radii = np.full(len(points), 0.25)
+    for name in ("cloud.ply", "cloud.xyzn"):
+        pnf.write(tmp_path / name, points, normals, radii=radii if name.endswith("ply") else None)
+        back = pnf.read(tmp_path / name)
+        np.testing.assert_array_equal(back.points, points)
+        np.testing.assert_array_equal(back.normals, normals)
+    np.testing.assert_array_equal(pnf.read(tmp_path / "cloud.ply").radii, radii)
+
+
+def test_write_with_new_normals_leaves_the_file_object_alone(tmp_path):
+    points, normals, _ = noisy_cube(5)
+    f = pnf.PointFile(points, normals)
+    pnf.write(tmp_path / "flipped.ply", f, -normals)
+    np.testing.assert_array_equal(f.normals, normals)
+    np.testing.assert_array_equal(pnf.read(tmp_path / "flipped.ply").normals, -normals)
+
+
+def test_points_without_normals(tmp_path):
+    points, _, _ = noisy_cube(5)
+    pnf.write(tmp_path / "bare.xyz", points)
+    f = pnf.read(tmp_path / "bare.xyz")
+    assert f.normals is None
+    f.normals = pnf.estimate_normals(f.points)
+    assert f.normals.shape == points.shape
+
+
+def test_setting_bad_normals_raises(tmp_path):
+    points, normals, _ = noisy_cube(5)
+    f = pnf.PointFile(points, normals)
+    with pytest.raises(ValueError):
+        f.normals = normals[:-1]
+    bad = normals.copy()
+    bad[3] = 0.0
+    with pytest.raises(ValueError, match="3"):
+        f.normals = bad
