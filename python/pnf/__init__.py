@@ -64,6 +64,7 @@ def improve_normals(
     radii: Optional[ArrayLike] = None,
     stop_change_deg: Optional[float] = None,
     out: Optional[ArrayLike] = None,
+    max_seconds: Optional[float] = None,
 ) -> Any:
     """Improves the normals of a point cloud; returns the new (N, 3) float64 unit normals.
 
@@ -93,12 +94,15 @@ def improve_normals(
     out: an (N, 3) float32 or float64 array (or buffer, such as an Open3D cloud's normals) to
         write the result into instead of a new array, and return; it must be writable and may
         be `normals` itself (they are read before anything is written), not `points`.
+    max_seconds: refuse (ValueError, with the numbers) a run estimated to take longer, from a
+        probe that times the device on a sample; None: the library's default (10 minutes);
+        0: no limit.
 
     Raises ValueError (bad parameters or data), DeviceError, Cancelled, KeyboardInterrupt.
     """
     return _pnf.improve_normals(
         points, normals, float(sigma_f), float(sigma_g), int(iterations), units, mean_radius, bool(auto),
-        device, backend, progress, radii, stop_change_deg, out,
+        device, backend, progress, radii, stop_change_deg, out, max_seconds,
     )
 
 

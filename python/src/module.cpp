@@ -93,7 +93,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
                            const std::string& units, std::optional<double> mean_radius, bool automatic,
                            const std::optional<std::string>& device, const std::string& backend,
                            const py::object& progress, py::handle radii, std::optional<double> stop_change_deg,
-                           py::handle out_array) {
+                           py::handle out_array, std::optional<double> max_seconds) {
   FilterParams params;
   params.sigma_f = sigma_f;
   params.sigma_g = sigma_g;
@@ -112,7 +112,11 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
     throw Error(ErrorCode::invalid_argument, "progress must be callable or None");
   }
   params.validate();
-  const FilterOptions options = filter_options(device, backend);
+  FilterOptions options = filter_options(device, backend);
+  if (max_seconds) {
+    options.max_seconds = *max_seconds;
+    options.validate();
+  }
 
   Vec3Input p(points, "points");
   Vec3Input n(normals, "normals");
@@ -321,7 +325,8 @@ PYBIND11_MODULE(_pnf, m) {
   // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
-        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true));
+        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true),
+        "max_seconds"_a.none(true));
   m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true));
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(

@@ -201,7 +201,7 @@ def test_ctrl_c_cancels_between_passes():
         threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
         start = time.monotonic()
         try:
-            pnf.improve_normals(points, normals, iterations=100000, backend="reference")
+            pnf.improve_normals(points, normals, iterations=100000, backend="reference", max_seconds=0)
         except KeyboardInterrupt:
             print("interrupted after %.1f s" % (time.monotonic() - start))
             sys.exit(0)
@@ -227,3 +227,13 @@ def test_auto_matches_choose_params(cube):
 def test_empty_cloud_gives_empty_normals():
     out = pnf.improve_normals(np.zeros((0, 3)), np.zeros((0, 3)), backend="reference")
     assert out.shape == (0, 3) and out.dtype == np.float64
+
+
+def test_a_run_past_max_seconds_is_refused_with_the_numbers():
+    from conftest import noisy_cube
+
+    points, normals, _ = noisy_cube(24)
+    with pytest.raises(ValueError, match=r"would take about .* times 100000 passes"):
+        pnf.improve_normals(points, normals, iterations=100000, backend="reference", max_seconds=1)
+    with pytest.raises(ValueError, match="max_seconds"):
+        pnf.improve_normals(points, normals, backend="reference", max_seconds=-1)

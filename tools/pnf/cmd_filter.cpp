@@ -23,6 +23,7 @@ struct FilterFlags {
   double max_seconds = FilterOptions{}.max_seconds;
   DeviceFlags device;
   bool ascii = false, quiet = false, in_place = false;
+  std::string pcd_data;
   bool automatic = false;   // --auto: sigma_f, sigma_g and passes from the data
   double stop_change = -1;  // --stop-change DEG; < 0 when not given
 };
@@ -115,7 +116,7 @@ int run_filter(const FilterFlags& flags) {
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
-    write_point_file(flags.out, file, WriteOptions{flags.ascii});
+    write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
     if (!flags.quiet) print_summary(flags, params, result.summary, read_s, seconds_since(t));
     return int(kOk);
   });
@@ -126,7 +127,7 @@ int run_filter(const FilterFlags& flags) {
 Command add_filter_command(CLI::App& parent) {
   auto flags = std::make_shared<FilterFlags>();
   CLI::App* app = parent.add_subcommand("filter", "Improve the normals of a point file (Jones, Durand, Zwicker 2004)");
-  app->add_option("IN", flags->in, "input point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("IN", flags->in, "input point file with normals (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
   // Defaults shown in the help are the library's (FilterParams{}, MemoryPolicy{}), captured from
   // the flags' initial values, never written here.
@@ -167,6 +168,7 @@ Command add_filter_command(CLI::App& parent) {
       ->capture_default_str();
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
+  add_pcd_data_option(*app, flags->pcd_data);
   app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");
   app->add_flag("-q,--quiet", flags->quiet, "print nothing but errors");
   return {app, [flags] { return run_filter(*flags); }};

@@ -159,7 +159,7 @@ AngleStats angle_stats(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 Command add_render_command(CLI::App& parent) {
   auto flags = std::make_shared<RenderCommandFlags>();
   CLI::App* app = parent.add_subcommand("render", "Draw a point model as lit surfels into a PNG picture");
-  app->add_option("IN", flags->in, "point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("IN", flags->in, "point file with normals (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "the picture, .png")->required();
   app->add_option("--mode", flags->mode,
                   "shaded: grey, lit from the normals (default); normals: colour = n * 0.5 + 0.5; error: colour by "
