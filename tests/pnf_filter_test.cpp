@@ -13,8 +13,8 @@
 
 #include "cl_runtime.hpp"
 #include "kernel_source.hpp"
-#include "neighbour_lists.hpp"
 #include "pnf/error.hpp"
+#include "spatial/spatial_index.hpp"
 #include "pnf_filter.h"
 
 namespace {
@@ -53,7 +53,7 @@ TEST(PnfFilter, JacobianMatchesCentralFiniteDifferences) {
   for (unsigned seed : {1u, 2u, 3u}) {
     RandomCloud cloud = random_cloud(400, seed);
     const double sigma_f = 0.15, sigma_g = 0.1;
-    pnf::detail::NeighbourSearch search(cloud.positions.data(), 400);
+    const pnf::detail::SpatialIndex search(cloud.positions);
     std::vector<std::uint32_t> counts = search.count_within(PNF_SUPPORT_IN_SIGMA_F * sigma_f);
     pnf::detail::CsrLists lists = search.lists_within(PNF_SUPPORT_IN_SIGMA_F * sigma_f, 0, 400, counts);
     pnf_coeffs c = pnf_make_coeffs(sigma_f, sigma_g);
@@ -92,7 +92,7 @@ TEST(PnfFilter, JacobianMatchesCentralFiniteDifferences) {
 TEST(PnfFilter, FMatchesBruteForceEvaluation) {
   RandomCloud cloud = random_cloud(300, 7);
   const double sigma_f = 0.2, sigma_g = 0.05;
-  pnf::detail::NeighbourSearch search(cloud.positions.data(), 300);
+  const pnf::detail::SpatialIndex search(cloud.positions);
   std::vector<std::uint32_t> counts = search.count_within(2 * sigma_f);
   pnf::detail::CsrLists lists = search.lists_within(2 * sigma_f, 0, 300, counts);
   pnf_coeffs c = pnf_make_coeffs(sigma_f, sigma_g);

@@ -253,7 +253,9 @@ void bind_results(py::module_& m) {
   py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (auto_params.hpp); lengths in model units.")
       .def_readonly("points", &DataEstimate::points)
       .def_readonly("samples", &DataEstimate::samples)
-      .def_readonly("spacing", &DataEstimate::spacing)
+      .def_readonly("mean_radius", &DataEstimate::mean_radius)
+      .def_property_readonly("radius_source", [](const DataEstimate& e) { return std::string(to_string(e.radius_source)); })
+      .def_readonly("area_spacing", &DataEstimate::area_spacing)
       .def_readonly("position_noise", &DataEstimate::position_noise)
       .def_readonly("normal_noise_deg", &DataEstimate::normal_noise_deg)
       .def_readonly("fit_neighbours", &DataEstimate::fit_neighbours)
@@ -261,12 +263,13 @@ void bind_results(py::module_& m) {
       .def_readonly("feature_share", &DataEstimate::feature_share)
       .def_readonly("curved_share", &DataEstimate::curved_share)
       .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
-      .def_property_readonly("position_noise_spacings", &DataEstimate::position_noise_spacings)
+      .def_property_readonly("position_noise_area_spacings", &DataEstimate::position_noise_area_spacings)
       .def("__repr__", [](const DataEstimate& e) {
         return py::str(
-                   "DataEstimate(points={}, spacing={:.6g}, position_noise={:.4g}, normal_noise_deg={:.3g}, "
+                   "DataEstimate(points={}, mean_radius={:.6g}, area_spacing={:.6g}, position_noise={:.4g}, "
+                   "normal_noise_deg={:.3g}, "
                    "feature_share={:.3f}, curved_share={:.3f})")
-            .format(e.points, e.spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
+            .format(e.points, e.mean_radius, e.area_spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
       });
   py::class_<AutoChoice>(m, "AutoChoice", "The parameters `pnf filter --auto` picks, and what it measured.")
       .def_property_readonly("sigma_f", [](const AutoChoice& c) { return c.params.sigma_f; })

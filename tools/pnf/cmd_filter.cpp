@@ -66,9 +66,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
   std::fprintf(stderr,
                "pnf filter --auto: estimated from %zu of %zu points in %.2f s (fits of %d neighbours, radius %.4g)\n",
                e.samples, e.points, seconds, e.fit_neighbours, e.fit_radius);
-  std::fprintf(stderr, "  spacing          %.6g model units\n", e.spacing);
-  std::fprintf(stderr, "  position noise   %.4g model units = %.3g spacings (along the normal)\n", e.position_noise,
-               e.position_noise_spacings());
+  std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
+               to_string(e.radius_source), e.area_spacing);
+  std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
+               e.position_noise, e.position_noise_area_spacings());
   if (e.normal_noise_deg >= 0) {
     std::fprintf(stderr, "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f\n",
                  e.normal_noise_deg, e.normal_error_correlation);
