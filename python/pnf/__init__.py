@@ -124,8 +124,7 @@ def estimate_normals(
     """Oriented unit normals for points that have none: a PCA fit over each point and its k
     nearest others, oriented by `orient`: "mst" (minimum spanning tree propagation, Hoppe 1992),
     "outward" (away from the centroid) or "viewpoint" (toward `viewpoint`). Needs N >= 3 and
-    k >= 3. Returns an (N, 3) float64 array. The points are currently copied once (to the
-    library's std::vector input).
+    k >= 3. Returns an (N, 3) float64 array. float32/float64 points are read in place.
     """
     return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
 

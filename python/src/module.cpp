@@ -148,8 +148,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   run_released(pending, [&] {
     FilterParams run_params = params;
     if (automatic) {
-      // TEMPORARY until choose_filter_params(CloudView) lands on main: a PointCloud copy.
-      run_params = choose_filter_params(to_point_cloud(view)).params;
+      run_params = choose_filter_params(view).params;
     }
     if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
     // Reads the caller's arrays in place and writes straight into the result array.
@@ -168,8 +167,7 @@ AutoChoice choose_params(py::handle points, py::handle normals) {
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
   py::gil_scoped_release nogil;
-  // TEMPORARY until choose_filter_params(CloudView) lands: a PointCloud copy.
-  return choose_filter_params(to_point_cloud(view));
+  return choose_filter_params(view);
 }
 
 py::object estimate(py::handle points, int k, const std::string& orient, const std::array<double, 3>& viewpoint) {
@@ -182,9 +180,7 @@ py::object estimate(py::handle points, int k, const std::string& orient, const s
   Vec3Output out = new_vec3_array(p.size());
   {
     py::gil_scoped_release nogil;
-    // TEMPORARY until estimate_normals(Vec3ArrayView, MutableVec3ArrayView) lands: copies in and out.
-    const std::vector<Vec3> normals = estimate_normals(to_vectors(p.view()), params);
-    for (std::size_t i = 0; i < normals.size(); ++i) out.view.set(i, normals[i]);
+    estimate_normals(p.view(), out.view, params);
   }
   return out.array;
 }
@@ -231,7 +227,7 @@ py::object render(py::handle points, py::handle normals, py::handle radii, int w
   py::object image = new_image_array(std::size_t(height), std::size_t(width), &pixels);
   {
     py::gil_scoped_release nogil;
-    // TEMPORARY until a view overload of render_points exists: a PointCloud copy.
+    // render_points takes a PointCloud (no view overload yet): the one copy the module makes.
     const Image drawn =
         render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{}, options);
     std::copy(drawn.rgb.begin(), drawn.rgb.end(), pixels);
