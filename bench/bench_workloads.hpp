@@ -17,12 +17,16 @@ struct Workload {
   FilterParams params;
 };
 
-// Nominal floating-point operations per neighbour pair in pnf_eval_F (kernels/pnf_filter.h),
-// counting the dual-number arithmetic as written: a dual multiply is 10 flops (1 + 3 x 3), a dual
-// add or scale 4, exp 1 + 3. Per pair: |p-x|^2 38, h 20, exponent 22, exp 4, projection 24,
-// sums 46, local offsets 6. The compiler folds some of them (the seed partials are constants),
-// so this is an upper bound on the work done, the same for every device.
-constexpr double kFlopsPerPair = 160;
+// Useful floating-point operations per neighbour pair, the figure every GFLOP/s of the bench and
+// of docs/performance.md is computed with (pairs per second x this). Fixed by the method, not by
+// the code, so that figures stay comparable when the code changes (as CLBlast counts 2n for an
+// axpy however it is written): the per-pair arithmetic of the span{d, n} dual-number formulation
+// of kernels/pnf_filter.h, a multiply, add or subtract 1 flop (an FMA 2), exp 1, the weight cut's
+// max and select 0, the per-point work (final division, cofactor update) left out (it is under
+// 1% at 200 neighbours). Per pair: d = p - x 3, |d|^2 5, h = d.n 5, exponent and its gradient
+// (g h, f |d|^2 + g h h, 2 g h) 5, exp 1, w's gradient 2, q = w h with its gradient 4, sum w 1,
+// sum grad w 12, sum q n 6, grad q expanded 9, sum n (grad q)^T 18: 71.
+constexpr double kFlopsPerPair = 71;
 
 // Names: "face" (75k points, sigma_f 4, sigma_g 0.5), "dog" (400k, sigma_f 8), "bunny" (the
 // 362k raw Stanford scans, normals by pnf::estimate_normals; needs the team's data),

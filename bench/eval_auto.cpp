@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/mean_radius.hpp"
@@ -37,7 +38,7 @@ namespace {
 
 using namespace pnf;
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::kPi;
 constexpr double kGridSigmaF[] = {2, 4, 8};
 constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
 constexpr int kGridPasses[] = {1, 2, 4, 8};
@@ -63,7 +64,7 @@ double rms_line_angle(const std::vector<Vec3>& normals, const std::vector<Vec3>&
   double sum = 0;
   for (std::size_t i = 0; i < normals.size(); ++i) {
     const Vec3 a = unit(normals[i]);
-    double t = std::atan2(std::sqrt(dot(cross(a, truth[i]), cross(a, truth[i]))), dot(a, truth[i])) * 180 / kPi;
+    double t = geometry::angle_degrees(a, truth[i]);
     t = std::min(t, 180 - t);
     sum += t * t;
   }
@@ -455,11 +456,14 @@ std::string setting_text(const Setting& s) {
 
 std::string auto_text(const Outcome& o) {
   char text[64];
+  // In area spacings, the rule's unit (docs/auto.md's tables); the params are in mean radii.
   const FilterParams& p = o.choice.params;
+  const double to_area_spacings = p.mean_radius / o.choice.estimate.area_spacing;
   if (p.sigma_g >= 1e5) {
-    std::snprintf(text, sizeof text, "%.2g/off/%d", p.sigma_f, o.auto_passes);
+    std::snprintf(text, sizeof text, "%.2g/off/%d", p.sigma_f * to_area_spacings, o.auto_passes);
   } else {
-    std::snprintf(text, sizeof text, "%.2g/%.2g/%d", p.sigma_f, p.sigma_g, o.auto_passes);
+    std::snprintf(text, sizeof text, "%.2g/%.2g/%d", p.sigma_f * to_area_spacings, p.sigma_g * to_area_spacings,
+                  o.auto_passes);
   }
   return text;
 }
@@ -560,7 +564,8 @@ int main(int argc, char** argv) {
     std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f\n",
                 c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
                 no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
-                e.spacing / o.mean_radius, e.position_noise_spacings(), c.true_noise / e.spacing, e.normal_noise_deg,
+                e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
+                e.normal_noise_deg,
                 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation);
     std::fflush(stdout);
     c.cloud = {};
@@ -723,8 +728,8 @@ int main(int argc, char** argv) {
           << "\", \"pca\": " << c.pca_neighbours << ", \"input\": " << o.input_rms << ", \"paper\": " << o.paper_rms << ", \"gauss\": " << o.gaussian_rms
           << ", \"auto\": " << o.auto_rms << ", \"best\": " << (no_grid ? 0.0 : o.best.rms) << ", \"best_setting\": \""
           << (no_grid ? "" : setting_text(o.best)) << "\", \"auto_setting\": \"" << auto_text(o)
-          << "\", \"mean_radius\": " << o.mean_radius << ", \"spacing\": " << e.spacing
-          << ", \"noise_spacings\": " << e.position_noise_spacings() << ", \"true_noise\": " << c.true_noise
+          << "\", \"mean_radius\": " << o.mean_radius << ", \"spacing\": " << e.area_spacing
+          << ", \"noise_spacings\": " << e.position_noise_area_spacings() << ", \"true_noise\": " << c.true_noise
           << ", \"normal_noise_deg\": " << e.normal_noise_deg << ", \"feature_share\": " << e.feature_share
           << ", \"curved_share\": " << e.curved_share
           << ", \"normal_error_correlation\": " << e.normal_error_correlation << ", \"rule\": \""

@@ -17,8 +17,10 @@
 #include <sstream>
 
 #include "bench_workloads.hpp"
-#include "filter_factory.hpp"
+#include "filter_engine.hpp"
+#include "opencl_backend.hpp"
 #include "pnf/normal_filter.hpp"
+#include "reference_backend.hpp"
 
 namespace {
 
@@ -31,6 +33,7 @@ struct Row {
   double sigma_f = 0, sigma_g = 0, neighbours_mean = 0;
   double list_s = 0, upload_s = 0, pass_s = 0, pass_min_s = 0, pass_max_s = 0, kernel_s = 0;
   double peak_host_mib = 0, device_mib = 0;
+  std::size_t degenerate_kept = 0;
 };
 
 double median(std::vector<double> v) {
@@ -45,25 +48,24 @@ double peak_host_mib() {
   return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
-// lanes: the kernel's lane width (an internal tuning, detail::FilterFactory); 0 for the default.
-Row measure(const Workload& w, const std::string& variant, const FilterOptions& options, int passes, int repeats,
-            int lanes = 0) {
-  NormalFilter filter = detail::FilterFactory::with_lanes(options, lanes);
-  FilterParams params = w.params;
-  params.iterations = 1;
-  filter.run(w.cloud, params);  // warm-up
-  params.iterations = passes;
-  Row row;
+// One way to run the filter: a name and a backend (built once, reused by every run).
+struct Variant {
+  std::string name;
+  FilterOptions options;  // backend kind and device, for the engine and the summary
+  std::unique_ptr<detail::FilterBackend> backend;
+};
+
+Row to_row(const Workload& w, const std::string& variant, int passes, const std::vector<FilterSummary>& runs) {
   std::vector<double> lists, uploads, run_medians, all_passes, kernels;
-  FilterSummary s;
-  for (int r = 0; r < repeats; ++r) {
-    s = filter.run(w.cloud, params).summary;
+  for (const FilterSummary& s : runs) {
     lists.push_back(s.neighbour_seconds);
     uploads.push_back(s.upload_seconds);
     run_medians.push_back(median(s.pass_seconds));
     all_passes.insert(all_passes.end(), s.pass_seconds.begin(), s.pass_seconds.end());
     kernels.push_back(median(s.kernel_seconds));
   }
+  const FilterSummary& s = runs.back();
+  Row row;
   row.workload = w.name;
   row.source = w.source;
   row.variant = variant;
@@ -76,6 +78,7 @@ Row measure(const Workload& w, const std::string& variant, const FilterOptions& 
   row.pairs = s.neighbour_pairs;
   row.chunks = s.chunks;
   row.passes = std::size_t(passes);
+  row.degenerate_kept = s.degenerate_kept;
   row.list_s = median(lists);
   row.upload_s = median(uploads);
   row.pass_s = median(all_passes);
@@ -87,6 +90,26 @@ Row measure(const Workload& w, const std::string& variant, const FilterOptions& 
   return row;
 }
 
+// Each variant: one warm-up pass (program build and first touch excluded); then `repeats`
+// rounds, each running every variant once in turn (A B C A B C ...), so that a change in the
+// machine's load falls on all variants alike and their ratios stay comparable.
+std::vector<Row> measure(const Workload& w, std::vector<Variant>& variants, int passes, int repeats) {
+  FilterParams params = w.params;
+  params.iterations = 1;
+  std::vector<Vec3> normals(w.cloud.size());
+  for (Variant& v : variants) detail::run_filter(*v.backend, v.options, w.cloud, normals, params, {});
+  params.iterations = passes;
+  std::vector<std::vector<FilterSummary>> runs(variants.size());
+  for (int r = 0; r < repeats; ++r) {
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      runs[i].push_back(detail::run_filter(*variants[i].backend, variants[i].options, w.cloud, normals, params, {}));
+    }
+  }
+  std::vector<Row> rows;
+  for (std::size_t i = 0; i < variants.size(); ++i) rows.push_back(to_row(w, variants[i].name, passes, runs[i]));
+  return rows;
+}
+
 std::string json(const Row& r) {
   std::ostringstream o;
   const double mpairs = r.pass_s > 0 ? double(r.pairs) / r.pass_s / 1e6 : 0;
@@ -96,7 +119,7 @@ std::string json(const Row& r) {
     << ",\"neighbours_max\":" << r.neighbours_max << ",\"pairs_per_pass\":" << r.pairs << ",\"chunks\":" << r.chunks
     << ",\"passes\":" << r.passes << ",\"list_build_s\":" << r.list_s << ",\"upload_s\":" << r.upload_s
     << ",\"pass_s\":" << r.pass_s << ",\"pass_s_min\":" << r.pass_min_s << ",\"pass_s_max\":" << r.pass_max_s
-    << ",\"kernel_s\":" << r.kernel_s << ",\"mpairs_per_s\":" << mpairs
+    << ",\"kernel_s\":" << r.kernel_s << ",\"degenerate_kept\":" << r.degenerate_kept << ",\"mpairs_per_s\":" << mpairs
     << ",\"gflops\":" << mpairs * kFlopsPerPair / 1000 << ",\"peak_host_mib\":" << r.peak_host_mib
     << ",\"device_mib\":" << r.device_mib << "}";
   return o.str();
@@ -172,6 +195,7 @@ int main(int argc, char** argv) {
   int repeats = 3, passes = 4;
   bool reference = false;
   std::vector<int> lanes;
+  std::vector<std::string> kernel_options;
   app.add_option("--workloads", workloads, "face, dog, bunny (default all three)")->delimiter(',');
   app.add_option("--sweep", sweep, "also run the synthetic house at these sizes, e.g. 10000,100000,1000000")
       ->delimiter(',');
@@ -179,6 +203,10 @@ int main(int argc, char** argv) {
   app.add_option("--passes", passes, "passes per run (default 4)")->check(CLI::PositiveNumber);
   app.add_option("--lanes", lanes, "also time these kernel lane counts, e.g. 1,4,8,16 (variants opencl-L<n>)")
       ->delimiter(',');
+  app.add_option("--kernel-options", kernel_options,
+                 "also time the kernel built with these extra OpenCL build options, ';'-separated, e.g. "
+                 "'-DPNF_WEIGHT_CUT_EXPONENT=-1e30;-cl-denorms-are-zero' (variants 'opencl <options>')")
+      ->delimiter(';');
   app.add_flag("--reference", reference, "also time the CPU reference on 1 thread and on all threads (slow)");
   app.add_option("--device", device, "OpenCL device selector (default $PNF_DEVICE)");
   app.add_option("--json", json_path, "where to write the results (default pnf_bench.json)");
@@ -196,20 +224,30 @@ int main(int argc, char** argv) {
         return out;
       }
       std::fprintf(stderr, "pnf_bench: %s (%zu points)...\n", name.c_str(), w.cloud.size());
+      // Kernel variants go through the internal backend factory: lane width and build options
+      // are not part of the public API.
       FilterOptions opencl;
-      opencl.device = Device::parse(device);
-      out.push_back(json(measure(w, "opencl", opencl, passes, repeats)));
+      opencl.device = Device::parse(device).resolved();
+      const std::string selector = opencl.device.selector;
+      std::vector<Variant> variants;
+      variants.push_back({"opencl", opencl, detail::make_opencl_backend(selector, 0)});
       for (int l : lanes) {
-        out.push_back(json(measure(w, "opencl-L" + std::to_string(l), opencl, passes, repeats, l)));
+        variants.push_back({"opencl-L" + std::to_string(l), opencl, detail::make_opencl_backend(selector, l)});
       }
+      for (const std::string& k : kernel_options) {
+        variants.push_back({"opencl " + k, opencl, detail::make_opencl_backend(selector, 0, k)});
+      }
+      for (const Row& row : measure(w, variants, passes, repeats)) out.push_back(json(row));
+      variants.clear();
       if (reference) {
         FilterOptions one;
         one.device = Device::reference();
-        one.reference_threads = 1;
-        out.push_back(json(measure(w, "reference-1t", one, 1, 1)));
-        FilterOptions all = one;
-        all.reference_threads = 0;
-        out.push_back(json(measure(w, "reference-all", all, 1, 1)));
+        std::vector<Variant> single;
+        single.push_back({"reference-1t", one, detail::make_reference_backend(1)});
+        out.push_back(json(measure(w, single, 1, 1)[0]));
+        single.clear();
+        single.push_back({"reference-all", one, detail::make_reference_backend(0)});
+        out.push_back(json(measure(w, single, 1, 1)[0]));
       }
       return out;
     });
@@ -246,8 +284,8 @@ int main(int argc, char** argv) {
   std::ofstream out(json_path);
   out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine
       << "\",\"cpus\":" << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\""
-      << command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null") << "\",\"flops_per_pair\":" << kFlopsPerPair
-      << ",\"repeats\":" << repeats << ",\"results\":[\n";
+      << command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null")
+      << "\",\"flops_per_pair\":" << kFlopsPerPair << ",\"repeats\":" << repeats << ",\"results\":[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i] << (i + 1 < rows.size() ? ",\n" : "\n");
   out << "]}\n";
   std::printf("wrote %s\n", json_path.c_str());

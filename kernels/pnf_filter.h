@@ -1,5 +1,6 @@
 /* pnf_filter.h: the per-point normal filter of Jones, Durand and Zwicker (2004), as pinned down
- * by SPEC.md. Shared verbatim by the OpenCL kernel (float) and the CPU reference (double).
+ * by SPEC.md. Shared verbatim by the OpenCL kernel (float, PNF_LANES neighbours a step) and the
+ * CPU reference (double, one lane): the neighbour loop below is the same code for both.
  *
  *   Pi_p(x) = x + ((p - x).n_p) n_p
  *   w_p(x)  = exp(-|p - x|^2 / (2 sf^2)) * exp(-((p - x).n_p)^2 / (2 sg^2))
@@ -9,7 +10,16 @@
  *
  * The truncation of f at 2 sf is the neighbour list itself: every listed neighbour was within
  * 2 sf of s when the list was built, and the list is held fixed while x moves, so F is smooth.
- * Positions and normals are arrays of 3 pnf_real per point. */
+ * Positions and normals are arrays of pnf_real4 (x, y, z, unused) per point.
+ *
+ * Forward mode over span{d, n} (pnf_sdual, pnf_common.h). Per pair, with d = p - x, h = d.n:
+ *   E = -(f |d|^2 + g h^2)           grad E = 2f d + 2g h n
+ *   w = exp(E)                        grad w = w grad E
+ *   q = w h                           grad q = h grad w - w n
+ * and F - o = (x - o) + sum q n / sum w, o the sample itself. The sums, with gradients expanded:
+ *   D = sum w,  G = sum grad w,  S = sum q n,  M = sum n (grad q)^T   (3 by 3)
+ * d(sum w (Pi - o))/dx = D I + (x - o) G^T + M: the D I term (sum w times dx/dx) comes out of the
+ * loop, and F's Jacobian follows by one dual division at the end (pnf_finish_F). */
 #ifndef PNF_FILTER_H
 #define PNF_FILTER_H
 
@@ -22,59 +32,161 @@ PNF_FN pnf_coeffs pnf_make_coeffs(pnf_real sigma_f, pnf_real sigma_g) {
   return c;
 }
 
-/* The running sums of F's denominator (sum w) and numerator (sum w Pi), per lane, as duals. */
+/* The running sums of the header comment, per lane. */
 typedef struct {
-  pnf_ldual w, wpx, wpy, wpz;
+  pnf_lane w;          /* D */
+  pnf_lane gx, gy, gz; /* G */
+  pnf_lane sx, sy, sz; /* S */
+  pnf_lane mxx, mxy, mxz, myx, myy, myz, mzx, mzy, mzz; /* M, row i = n_i, column k = d/dx_k */
 } pnf_sums;
 
 PNF_FN pnf_sums pnf_sums_zero(void) {
-  pnf_sums acc;
-  acc.w = pnf_ldual_zero();
-  acc.wpx = pnf_ldual_zero();
-  acc.wpy = pnf_ldual_zero();
-  acc.wpz = pnf_ldual_zero();
-  return acc;
+  pnf_sums a;
+  a.w = 0;
+  a.gx = 0;
+  a.gy = 0;
+  a.gz = 0;
+  a.sx = 0;
+  a.sy = 0;
+  a.sz = 0;
+  a.mxx = 0;
+  a.mxy = 0;
+  a.mxz = 0;
+  a.myx = 0;
+  a.myy = 0;
+  a.myz = 0;
+  a.mzx = 0;
+  a.mzy = 0;
+  a.mzz = 0;
+  return a;
 }
 
-/* Adds PNF_LANES neighbours to the sums: their positions relative to the origin o (p - o), their
- * normals, and `valid` (1 for a neighbour, 0 for a padding lane). The query is x = o + x_local.
- * Working relative to o keeps float32 precise far from the cloud's centre: p - o is exact for
- * nearby floats, and F - o is of the size of the neighbourhood, not of the model. */
-PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_dvec3 x_local, pnf_lane px, pnf_lane py, pnf_lane pz, pnf_lane nx,
-                           pnf_lane ny, pnf_lane nz, pnf_lane valid, pnf_coeffs c) {
-  pnf_ldual dx = pnf_ldual_rsub(px, x_local.x); /* p - x */
-  pnf_ldual dy = pnf_ldual_rsub(py, x_local.y);
-  pnf_ldual dz = pnf_ldual_rsub(pz, x_local.z);
-  pnf_ldual dist2 = pnf_ldual_add(pnf_ldual_add(pnf_ldual_mul(dx, dx), pnf_ldual_mul(dy, dy)), pnf_ldual_mul(dz, dz));
-  pnf_ldual h = pnf_ldual_add(pnf_ldual_add(pnf_ldual_scale(dx, nx), pnf_ldual_scale(dy, ny)), pnf_ldual_scale(dz, nz));
-  pnf_ldual exponent = pnf_ldual_add(pnf_ldual_scale(dist2, (pnf_lane)(-c.inv_two_sigma_f2)),
-                                     pnf_ldual_scale(pnf_ldual_mul(h, h), (pnf_lane)(-c.inv_two_sigma_g2)));
-  pnf_ldual w = pnf_ldual_scale(pnf_ldual_exp(exponent), valid);
-  /* Pi_p(x) - o = x_local + h n_p */
-  pnf_ldual pi_x = pnf_ldual_add_scalar(x_local.x, pnf_ldual_scale(h, nx));
-  pnf_ldual pi_y = pnf_ldual_add_scalar(x_local.y, pnf_ldual_scale(h, ny));
-  pnf_ldual pi_z = pnf_ldual_add_scalar(x_local.z, pnf_ldual_scale(h, nz));
-  acc->w = pnf_ldual_add(acc->w, w);
-  acc->wpx = pnf_ldual_add(acc->wpx, pnf_ldual_mul(w, pi_x));
-  acc->wpy = pnf_ldual_add(acc->wpy, pnf_ldual_mul(w, pi_y));
-  acc->wpz = pnf_ldual_add(acc->wpz, pnf_ldual_mul(w, pi_z));
+/* Adds PNF_LANES neighbours to the sums: d = p - x and their normals n, lane by lane. A lane
+ * whose exponent is below `cut` adds nothing (PNF_WEIGHT_CUT_EXPONENT; 1 for a padding lane,
+ * as every exponent is <= 0). */
+PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_lane dx, pnf_lane dy, pnf_lane dz, pnf_lane nx, pnf_lane ny,
+                           pnf_lane nz, pnf_lane cut, pnf_coeffs c) {
+  pnf_lane dist2 = dx * dx + dy * dy + dz * dz;
+  pnf_lane h = dx * nx + dy * ny + dz * nz;
+  pnf_lane gh = (pnf_lane)c.inv_two_sigma_g2 * h;
+  pnf_sdual e = pnf_sdual_make(-((pnf_lane)c.inv_two_sigma_f2 * dist2 + gh * h), (pnf_lane)(2 * c.inv_two_sigma_f2),
+                               gh + gh);
+  pnf_sdual w = pnf_sdual_exp_cut(e, cut);
+  pnf_sdual q = pnf_sdual_mul_h(w, h);
+  acc->w += w.v;
+  acc->gx += w.a * dx + w.b * nx;
+  acc->gy += w.a * dy + w.b * ny;
+  acc->gz += w.a * dz + w.b * nz;
+  acc->sx += q.v * nx;
+  acc->sy += q.v * ny;
+  acc->sz += q.v * nz;
+  /* grad q, expanded once, then n (grad q)^T */
+  pnf_lane ux = q.a * dx + q.b * nx;
+  pnf_lane uy = q.a * dy + q.b * ny;
+  pnf_lane uz = q.a * dz + q.b * nz;
+  acc->mxx += nx * ux;
+  acc->mxy += nx * uy;
+  acc->mxz += nx * uz;
+  acc->myx += ny * ux;
+  acc->myy += ny * uy;
+  acc->myz += ny * uz;
+  acc->mzx += nz * ux;
+  acc->mzy += nz * uy;
+  acc->mzz += nz * uz;
 }
 
-/* F - o = sum w Pi / sum w, with its Jacobian in the partials. */
-PNF_FN pnf_dvec3 pnf_finish_F(pnf_sums acc) {
-  pnf_dual w = pnf_ldual_sum(acc.w);
+/* A lane sum's value and the three partials of its gradient, as a dual. */
+PNF_FN pnf_dual pnf_dual_of_sums(pnf_lane v, pnf_lane d0, pnf_lane d1, pnf_lane d2) {
+  pnf_dual r;
+  r.v = pnf_lane_sum(v);
+  r.d[0] = pnf_lane_sum(d0);
+  r.d[1] = pnf_lane_sum(d1);
+  r.d[2] = pnf_lane_sum(d2);
+  return r;
+}
+
+/* F - o = sum w (Pi - o) / sum w with its Jacobian in the partials, for the query x = o + x_local.
+ * sum w (Pi - o) = x_local D + S, whose partial k is D [i == k] + x_local_i G_k + M_ik. */
+PNF_FN pnf_dvec3 pnf_finish_F(pnf_sums acc, pnf_vec3 x_local) {
+  pnf_dual den = pnf_dual_of_sums(acc.w, acc.gx, acc.gy, acc.gz);
+  pnf_dual nx = pnf_dual_of_sums(acc.sx, acc.mxx, acc.mxy, acc.mxz);
+  pnf_dual ny = pnf_dual_of_sums(acc.sy, acc.myx, acc.myy, acc.myz);
+  pnf_dual nz = pnf_dual_of_sums(acc.sz, acc.mzx, acc.mzy, acc.mzz);
+  nx.v += x_local.x * den.v;
+  ny.v += x_local.y * den.v;
+  nz.v += x_local.z * den.v;
+  for (int k = 0; k < 3; ++k) {
+    nx.d[k] += x_local.x * den.d[k];
+    ny.d[k] += x_local.y * den.d[k];
+    nz.d[k] += x_local.z * den.d[k];
+  }
+  nx.d[0] += den.v;
+  ny.d[1] += den.v;
+  nz.d[2] += den.v;
   pnf_dvec3 f;
-  f.x = pnf_dual_div(pnf_ldual_sum(acc.wpx), w);
-  f.y = pnf_dual_div(pnf_ldual_sum(acc.wpy), w);
-  f.z = pnf_dual_div(pnf_ldual_sum(acc.wpz), w);
+  f.x = pnf_dual_div(nx, den);
+  f.y = pnf_dual_div(ny, den);
+  f.z = pnf_dual_div(nz, den);
   return f;
+}
+
+/* F(o + x_local) - o with its Jacobian, o = positions[s], over the neighbour list
+ * indices[begin, end), PNF_LANES neighbours a step. Each neighbour is one pnf_real4 load of its
+ * position and one of its normal. With PNF_LANES > 1 the last step's missing lanes repeat s and
+ * are cut (weight 0). Working relative to o keeps float32 precise far from the cloud's centre:
+ * p - o is exact for nearby floats, and F - o is of the size of the neighbourhood. */
+PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
+                            pnf_offset end, PNF_GLOBAL const pnf_real4* positions,
+                            PNF_GLOBAL const pnf_real4* normals, pnf_coeffs c) {
+  pnf_real4 o = positions[s];
+  const pnf_real qx = o.x + x_local.x, qy = o.y + x_local.y, qz = o.z + x_local.z;
+  pnf_sums acc = pnf_sums_zero();
+  const pnf_offset full = begin + (end - begin) / PNF_LANES * PNF_LANES;
+  pnf_real dx[PNF_LANES], dy[PNF_LANES], dz[PNF_LANES], nx[PNF_LANES], ny[PNF_LANES], nz[PNF_LANES];
+  for (pnf_offset e = begin; e < full; e += PNF_LANES) {
+    for (int k = 0; k < PNF_LANES; ++k) {
+      pnf_index j = indices[e + k];
+      pnf_real4 p = positions[j];
+      pnf_real4 n = normals[j];
+      dx[k] = p.x - qx;
+      dy[k] = p.y - qy;
+      dz[k] = p.z - qz;
+      nx[k] = n.x;
+      ny[k] = n.y;
+      nz[k] = n.z;
+    }
+    pnf_accumulate(&acc, pnf_lane_load(dx), pnf_lane_load(dy), pnf_lane_load(dz), pnf_lane_load(nx),
+                   pnf_lane_load(ny), pnf_lane_load(nz), (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
+  }
+#if PNF_LANES > 1
+  if (full < end) {
+    pnf_real cut[PNF_LANES];
+    for (int k = 0; k < PNF_LANES; ++k) {
+      int real = full + k < end;
+      pnf_index j = real ? indices[full + k] : s;
+      pnf_real4 p = positions[j];
+      pnf_real4 n = normals[j];
+      dx[k] = p.x - qx;
+      dy[k] = p.y - qy;
+      dz[k] = p.z - qz;
+      nx[k] = n.x;
+      ny[k] = n.y;
+      nz[k] = n.z;
+      cut[k] = real ? (pnf_real)(PNF_WEIGHT_CUT_EXPONENT) : (pnf_real)1;
+    }
+    pnf_accumulate(&acc, pnf_lane_load(dx), pnf_lane_load(dy), pnf_lane_load(dz), pnf_lane_load(nx),
+                   pnf_lane_load(ny), pnf_lane_load(nz), pnf_lane_load(cut), c);
+  }
+#endif
+  return pnf_finish_F(acc, x_local);
 }
 
 /* Column k of J = dF/dx. */
 PNF_FN pnf_vec3 pnf_jacobian_column(pnf_dvec3 f, int k) { return pnf_make_vec3(f.x.d[k], f.y.d[k], f.z.d[k]); }
 
-/* n' = C n_s / |C n_s| with SPEC's orientation and degenerate rules. */
-PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
+/* n' = C n_s / |C n_s| with SPEC's orientation and degenerate rules. *kept is set to 1 when J is
+ * degenerate and n_s is returned unchanged, to 0 otherwise. */
+PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s, int* kept) {
   pnf_vec3 j0 = pnf_jacobian_column(f, 0);
   pnf_vec3 j1 = pnf_jacobian_column(f, 1);
   pnf_vec3 j2 = pnf_jacobian_column(f, 2);
@@ -82,38 +194,23 @@ PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s) {
   pnf_vec3 c1 = pnf_cross3(j2, j0);
   pnf_vec3 c2 = pnf_cross3(j0, j1);
   pnf_vec3 m = pnf_add3(pnf_add3(pnf_scale3(c0, n_s.x), pnf_scale3(c1, n_s.y)), pnf_scale3(c2, n_s.z));
-  pnf_real scale = pnf_sqrt(pnf_dot3(c0, c0) + pnf_dot3(c1, c1) + pnf_dot3(c2, c2));
+  pnf_real scale = pnf_dot3(j0, j0) + pnf_dot3(j1, j1) + pnf_dot3(j2, j2);
   pnf_real len = pnf_sqrt(pnf_dot3(m, m));
   /* Written so that a NaN or a zero scale also keeps n_s. */
-  if (!(len > (pnf_real)PNF_DEGENERATE_RELATIVE * scale) || !(len > 0)) return n_s;
+  *kept = !(len > (pnf_real)PNF_DEGENERATE_RELATIVE * scale) || !(len > 0);
+  if (*kept) return n_s;
   m = pnf_scale3(m, (pnf_real)1 / len);
   if (pnf_dot3(m, n_s) < 0) m = pnf_scale3(m, (pnf_real)-1);
   return m;
 }
 
-#if PNF_LANES == 1
-/* F(o + x_local) - o with its Jacobian, one neighbour at a time over indices[begin, end). */
-PNF_FN pnf_dvec3 pnf_eval_F(pnf_dvec3 x_local, pnf_vec3 origin, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
-                            pnf_offset end, PNF_GLOBAL const pnf_real* positions, PNF_GLOBAL const pnf_real* normals,
-                            pnf_coeffs c) {
-  pnf_sums acc = pnf_sums_zero();
-  for (pnf_offset e = begin; e < end; ++e) {
-    pnf_index j = indices[e];
-    pnf_vec3 p = pnf_load_vec3(positions, j);
-    pnf_vec3 n = pnf_load_vec3(normals, j);
-    pnf_accumulate(&acc, x_local, p.x - origin.x, p.y - origin.y, p.z - origin.z, n.x, n.y, n.z, 1, c);
-  }
-  return pnf_finish_F(acc);
-}
-
-/* One pass for point s: its new normal from its neighbour list indices[begin, end). */
+/* One pass for point s: its new normal from its neighbour list indices[begin, end); *kept as
+ * pnf_update_normal sets it. */
 PNF_FN pnf_vec3 pnf_filter_point(pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin, pnf_offset end,
-                                 PNF_GLOBAL const pnf_real* positions, PNF_GLOBAL const pnf_real* normals,
-                                 pnf_coeffs c) {
-  pnf_dvec3 x_local = pnf_dvec3_seed(pnf_make_vec3(0, 0, 0));
-  pnf_dvec3 f = pnf_eval_F(x_local, pnf_load_vec3(positions, s), indices, begin, end, positions, normals, c);
-  return pnf_update_normal(f, pnf_load_vec3(normals, s));
+                                 PNF_GLOBAL const pnf_real4* positions, PNF_GLOBAL const pnf_real4* normals,
+                                 pnf_coeffs c, int* kept) {
+  pnf_dvec3 f = pnf_eval_F(pnf_make_vec3(0, 0, 0), s, indices, begin, end, positions, normals, c);
+  return pnf_update_normal(f, pnf_vec3_of(normals[s]), kept);
 }
-#endif
 
 #endif /* PNF_FILTER_H */

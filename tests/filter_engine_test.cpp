@@ -152,7 +152,7 @@ TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
   pnf::PointCloud ball = noisy_sphere(20000, 5);
   pnf::FilterOptions options;
   options.max_seconds = 0;  // no limit, no probe
-  auto backend = pnf::detail::make_opencl_backend("", 0);
+  auto backend = pnf::detail::make_opencl_backend(pnf::test::opencl_selector(), 0);
   const pnf::FilterResult plain = run_engine(*backend, options, ball, {}, {});
   const double work = double(plain.summary.neighbour_pairs) * 5;  // 4 passes and the lists
   options.max_seconds = work / 1.5e7;

@@ -31,6 +31,12 @@ inline NormalFilter* opencl_filter(std::string& why) {
   return filter.get();
 }
 
+// The OpenCL selector the tests' internal backends use: PNF_DEVICE's, as NormalFilter resolves it.
+inline std::string opencl_selector() {
+  const Device device = Device::opencl().resolved();
+  return device.backend == Backend::opencl ? device.selector : std::string();
+}
+
 inline NormalFilter* reference_filter() {
   static NormalFilter filter(FilterOptions{Device::reference()});
   return &filter;

@@ -45,6 +45,9 @@ class FilterBackend {
   // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,
   // or 0 when not measured.
   virtual double end_pass() = 0;
+  // Points of the pass end_pass() last closed whose J was degenerate, so their normal was kept
+  // (SPEC, "The normal update"). A backend that does not count returns 0.
+  virtual std::size_t degenerate_kept() const { return 0; }
   // Bytes of device memory this backend holds (0 for the host reference).
   virtual std::size_t device_bytes() const = 0;
   // The current normals, N by 3.

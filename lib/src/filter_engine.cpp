@@ -5,15 +5,17 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <utility>
 
-#include "bounding_box.hpp"
 #include "chunk_plan.hpp"
 #include "cloud_checks.hpp"
+#include "geometry.hpp"
 #include "mean_radius_internal.hpp"
-#include "neighbour_lists.hpp"
+#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 #include "pnf_filter.h"
-#include "spatial_order.hpp"
+#include "spatial/spatial_index.hpp"
+#include "spatial/spatial_order.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -54,31 +56,16 @@ OrderedCloud order_cloud(const CloudView& cloud, std::size_t owned) {
   return out;
 }
 
-double resolve_mean_radius(const CloudView& cloud, const FilterParams& params, const NeighbourSearch& search,
+double resolve_mean_radius(const CloudView& cloud, const FilterParams& params, const SpatialIndex& search,
                            RadiusSource& source) {
   if (params.units == Units::absolute) {
     source = RadiusSource::not_used;
     return 0;
   }
-  if (params.mean_radius > 0) {
-    source = RadiusSource::given;
-    return params.mean_radius;
-  }
-  if (cloud.has_radii()) {
-    source = RadiusSource::property;
-    double sum = 0;
-    for (std::size_t i = 0; i < cloud.radii.count; ++i) sum += cloud.radii.get(i);
-    return sum / double(cloud.radii.count);
-  }
-  source = RadiusSource::estimate;
-  double estimate = estimate_mean_radius(search);
-  if (!(estimate > 0)) {
-    throw Error(ErrorCode::invalid_input,
-                "cannot estimate the mean surfel radius of " + std::to_string(cloud.size()) +
-                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
-                    "explicitly or use absolute units");
-  }
-  return estimate;
+  const MeanRadius radius = detail::resolve_mean_radius(params.mean_radius, cloud.radii, cloud.size(),
+                                                        [&] { return estimate_mean_radius(search); });
+  source = radius.source;
+  return radius.value;
 }
 
 // Sum of the angles in degrees between the first `count` rows of two N by 3 arrays of unit
@@ -86,12 +73,9 @@ double resolve_mean_radius(const CloudView& cloud, const FilterParams& params, c
 double sum_angle_deg(const std::vector<double>& a, const std::vector<double>& b, std::size_t count) {
   double sum = 0;
   for (std::size_t i = 0; i < count; ++i) {
-    const double* u = &a[3 * i];
-    const double* v = &b[3 * i];
-    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
-    sum += std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), u[0] * v[0] + u[1] * v[1] + u[2] * v[2]);
+    sum += geometry::angle_radians({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
   }
-  return sum * 180.0 / 3.14159265358979323846;
+  return sum * 180.0 / geometry::kPi;
 }
 
 std::string gib(double bytes) {
@@ -103,7 +87,7 @@ std::string gib(double bytes) {
 // Refuses, before the exact count, a neighbourhood so wide that the lists would pass
 // options.memory.max_neighbour_pairs (every point neighbouring every other, say): that count
 // alone would take hours. A sample of points gives the estimate, which is returned.
-double check_pair_estimate(const NeighbourSearch& search, double reach, const FilterOptions& options,
+double check_pair_estimate(const SpatialIndex& search, double reach, const FilterOptions& options,
                            const FilterSummary& summary) {
   const double estimate = search.estimate_pairs(reach);
   if (estimate <= double(options.memory.max_neighbour_pairs)) return estimate;
@@ -126,7 +110,7 @@ constexpr double kProbePairs = 4e6;
 // Times this device on a compact piece of the cloud (consecutive points along the curve, in
 // its middle): building their lists, and one kernel pass over them. Returns the estimated
 // seconds of the whole run, lists and passes, for `pairs` neighbour pairs per pass.
-double estimate_run_seconds(FilterBackend& backend, const NeighbourSearch& search, const OrderedCloud& ordered,
+double estimate_run_seconds(FilterBackend& backend, const SpatialIndex& search, const OrderedCloud& ordered,
                             std::size_t owned, double reach, double pairs, int passes,
                             const Coefficients& coefficients) {
   const double per_point = std::max(1.0, pairs / double(std::max<std::size_t>(owned, 1)));
@@ -137,7 +121,7 @@ double estimate_run_seconds(FilterBackend& backend, const NeighbourSearch& searc
   const std::vector<std::uint32_t> probed = search.count_within(reach, first, m);
   counts.insert(counts.end(), probed.begin(), probed.end());
   const std::size_t probe_pairs = std::accumulate(probed.begin(), probed.end(), std::size_t(0));
-  backend.upload_cloud(ordered.positions, ordered.normals);
+  backend.upload_cloud(search.positions(), ordered.normals);
   ListStorage storage = backend.begin_lists(first, m, probe_pairs);
   search.fill_lists(reach, first, m, counts, storage.offsets, storage.indices);
   backend.end_lists();
@@ -190,7 +174,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
 
   auto start = Clock::now();
   OrderedCloud ordered = order_cloud(cloud, owned);
-  NeighbourSearch search(ordered.positions.data(), cloud.size());
+  const SpatialIndex search(std::move(ordered.positions));  // no copy: the tree searches them in place
   summary.mean_radius = resolve_mean_radius(cloud, params, search, summary.radius_source);
   const double scale = params.units == Units::radius ? summary.mean_radius : 1.0;
   summary.sigma_f = params.sigma_f * scale;
@@ -244,10 +228,11 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
+    summary.degenerate_kept = 0;
     std::size_t largest = 0;  // bytes of the largest chunk's lists, to halve on a refusal
     try {
       start = Clock::now();
-      backend.upload_cloud(ordered.positions, ordered.normals);
+      backend.upload_cloud(search.positions(), ordered.normals);
       summary.upload_seconds += seconds_since(start);
 
       auto load_chunk = [&](const Chunk& chunk) {
@@ -278,6 +263,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());
+        summary.degenerate_kept += backend.degenerate_kept();
         std::vector<double> current;
         if (part) {
           // The halo's rows of the new normals were not computed here: their owners send them.

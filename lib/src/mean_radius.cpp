@@ -1,8 +1,13 @@
 #include "pnf/mean_radius.hpp"
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include "mean_radius_internal.hpp"
+#include "pnf/bounding_box.hpp"
+#include "pnf/error.hpp"
+#include "spatial/spatial_order.hpp"
 
 namespace pnf {
 namespace {
@@ -16,8 +21,8 @@ constexpr std::size_t kMaxSpacingSamples = 100000;
 
 namespace detail {
 
-double estimate_mean_radius(const NeighbourSearch& search) {
-  std::vector<double> distances = search.mean_knn_distance(kSpacingNeighbours, kMaxSpacingSamples);
+double estimate_mean_radius(const SpatialIndex& index, const std::vector<std::uint32_t>* curve_order) {
+  std::vector<double> distances = index.mean_knn_distance(kSpacingNeighbours, kMaxSpacingSamples, curve_order);
   // A point whose 4 nearest are all duplicates of it says nothing about the spacing.
   distances.erase(std::remove(distances.begin(), distances.end(), 0.0), distances.end());
   if (distances.empty()) return 0;
@@ -26,11 +31,44 @@ double estimate_mean_radius(const NeighbourSearch& search) {
   return *middle;
 }
 
+MeanRadius resolve_mean_radius(double given, const ScalarArrayView& radii, std::size_t points,
+                               const std::function<double()>& estimate) {
+  if (given > 0) return {given, RadiusSource::given};
+  if (!radii.empty()) {
+    double sum = 0;
+    for (std::size_t i = 0; i < radii.count; ++i) sum += radii.get(i);
+    return {sum / double(radii.count), RadiusSource::property};
+  }
+  const double value = estimate();
+  if (!(value > 0)) {
+    throw Error(ErrorCode::invalid_input,
+                "cannot estimate the mean surfel radius of " + std::to_string(points) +
+                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
+                    "explicitly or use absolute units");
+  }
+  return {value, RadiusSource::estimate};
+}
+
 }  // namespace detail
 
-double estimate_mean_radius(const std::vector<Vec3>& positions) {
-  detail::NeighbourSearch search(positions.empty() ? nullptr : positions[0].data(), positions.size());
-  return detail::estimate_mean_radius(search);
+double estimate_mean_radius(const Vec3ArrayView& positions) {
+  // The filter's frame: Morton order, re-centred on the bounding-box centre (filter_engine.cpp),
+  // so that both sample the same points and compute the same distances.
+  const std::size_t n = positions.count;
+  const std::vector<std::uint32_t> order = detail::morton_order(positions);
+  const Vec3 centre = bounding_box(positions).centre();
+  std::vector<double> centred(3 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 p = positions.at(order[k]);
+    for (int c = 0; c < 3; ++c) centred[3 * k + c] = p[c] - centre[c];
+  }
+  const detail::SpatialIndex index(std::move(centred));
+  return detail::estimate_mean_radius(index);
+}
+
+MeanRadius mean_radius(const CloudView& cloud, double given) {
+  return detail::resolve_mean_radius(given, cloud.radii, cloud.size(),
+                                     [&] { return estimate_mean_radius(cloud.positions); });
 }
 
 }  // namespace pnf

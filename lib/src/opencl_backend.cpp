@@ -14,14 +14,26 @@ constexpr const char* kBuildOptions = "-cl-std=CL1.2";
 constexpr int kCpuLanes = 16;
 constexpr int kGpuLanes = 1;
 
-std::vector<float> to_float(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
+// N by 3 doubles -> N float4 (x, y, z, 0): the kernel loads a point's position or normal as one
+// 16-byte vector.
+std::vector<cl_float4> to_float4(const std::vector<double>& v) {
+  std::vector<cl_float4> out(v.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].s[0] = static_cast<float>(v[3 * i]);
+    out[i].s[1] = static_cast<float>(v[3 * i + 1]);
+    out[i].s[2] = static_cast<float>(v[3 * i + 2]);
+    out[i].s[3] = 0.0f;
+  }
+  return out;
+}
 
 class OpenClBackend : public FilterBackend {
  public:
-  OpenClBackend(const std::string& selector, int lanes) : runtime_(selector) {
+  OpenClBackend(const std::string& selector, int lanes, const std::string& extra_options) : runtime_(selector) {
     lanes_ = lanes > 0 ? lanes : runtime_.info().type == "gpu" ? kGpuLanes : kCpuLanes;
-    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass",
-                              std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_));
+    std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
+    if (!extra_options.empty()) options += " " + extra_options;
+    kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
   }
 
   std::string description() const override {
@@ -32,13 +44,16 @@ class OpenClBackend : public FilterBackend {
   void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) override {
     guarded([&] {
       point_count_ = positions.size() / 3;
-      std::vector<float> p = to_float(positions), n = to_float(normals);
-      const std::size_t bytes = p.size() * sizeof(float);
+      std::vector<cl_float4> p = to_float4(positions), n = to_float4(normals);
+      const std::size_t bytes = p.size() * sizeof(cl_float4);
       positions_ = cl::Buffer(runtime_.context(), CL_MEM_READ_ONLY, bytes);
       current_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, bytes);
       next_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, bytes);
       runtime_.queue().enqueueWriteBuffer(positions_, CL_TRUE, 0, bytes, p.data());
       runtime_.queue().enqueueWriteBuffer(current_, CL_TRUE, 0, bytes, n.data());
+      degenerate_ = cl::Buffer(runtime_.context(), CL_MEM_READ_WRITE, sizeof(cl_uint));
+      const cl_uint zero = 0;
+      runtime_.queue().enqueueWriteBuffer(degenerate_, CL_TRUE, 0, sizeof zero, &zero);
       runtime_.queue().finish();
     });
   }
@@ -91,6 +106,7 @@ class OpenClBackend : public FilterBackend {
       kernel_.setArg(6, chunk_count_);
       kernel_.setArg(7, static_cast<cl_float>(coefficients.inv_two_sigma_f2));
       kernel_.setArg(8, static_cast<cl_float>(coefficients.inv_two_sigma_g2));
+      kernel_.setArg(9, degenerate_);
       cl::Event event;
       runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(chunk_count_), cl::NullRange, nullptr,
                                             &event);
@@ -111,28 +127,40 @@ class OpenClBackend : public FilterBackend {
         }
       }
       events_.clear();
+      // The kernels of every chunk of the pass add to one counter; read it and start the next at 0.
+      cl_uint kept = 0;
+      const cl_uint zero = 0;
+      runtime_.queue().enqueueReadBuffer(degenerate_, CL_TRUE, 0, sizeof kept, &kept);
+      runtime_.queue().enqueueWriteBuffer(degenerate_, CL_TRUE, 0, sizeof zero, &zero);
+      last_kept_ = kept;
       // The chunks of a pass cover every point, so `next_` is whole and can become current.
       std::swap(current_, next_);
       return seconds;
     });
   }
 
+  std::size_t degenerate_kept() const override { return last_kept_; }
+
   std::size_t device_bytes() const override {
-    return 3 * point_count_ * 3 * sizeof(float) + offsets_capacity_ + indices_capacity_;
+    return 3 * point_count_ * sizeof(cl_float4) + offsets_capacity_ + indices_capacity_;
   }
 
   std::vector<double> download_normals() override {
     return guarded([&] {
-      std::vector<float> n(point_count_ * 3);
-      runtime_.queue().enqueueReadBuffer(current_, CL_TRUE, 0, n.size() * sizeof(float), n.data());
-      return std::vector<double>(n.begin(), n.end());
+      std::vector<cl_float4> n(point_count_);
+      runtime_.queue().enqueueReadBuffer(current_, CL_TRUE, 0, n.size() * sizeof(cl_float4), n.data());
+      std::vector<double> out(3 * point_count_);
+      for (std::size_t i = 0; i < point_count_; ++i) {
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = n[i].s[c];
+      }
+      return out;
     });
   }
 
   void replace_normals(const std::vector<double>& normals) override {
     guarded([&] {
-      std::vector<float> n = to_float(normals);
-      runtime_.queue().enqueueWriteBuffer(current_, CL_TRUE, 0, n.size() * sizeof(float), n.data());
+      std::vector<cl_float4> n = to_float4(normals);
+      runtime_.queue().enqueueWriteBuffer(current_, CL_TRUE, 0, n.size() * sizeof(cl_float4), n.data());
     });
   }
 
@@ -147,6 +175,8 @@ class OpenClBackend : public FilterBackend {
   cl::Kernel kernel_;
   std::size_t point_count_ = 0;
   cl::Buffer positions_, current_, next_, offsets_, indices_;
+  cl::Buffer degenerate_;      // one uint: points of the current pass whose J was degenerate
+  std::size_t last_kept_ = 0;  // that count for the pass end_pass() last closed
   std::size_t offsets_capacity_ = 0, indices_capacity_ = 0;
   cl_uint chunk_begin_ = 0, chunk_count_ = 0;
   void* mapped_offsets_ = nullptr;
@@ -156,8 +186,9 @@ class OpenClBackend : public FilterBackend {
 
 }  // namespace
 
-std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes) {
-  return std::make_unique<OpenClBackend>(selector, lanes);
+std::unique_ptr<FilterBackend> make_opencl_backend(const std::string& selector, int lanes,
+                                                   const std::string& extra_options) {
+  return std::make_unique<OpenClBackend>(selector, lanes, extra_options);
 }
 
 }  // namespace pnf::detail

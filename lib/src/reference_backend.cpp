@@ -10,6 +10,13 @@
 namespace pnf::detail {
 namespace {
 
+// N by 3 -> N pnf_real4 (x, y, z, 0).
+std::vector<pnf_real4> to_real4(const std::vector<double>& v) {
+  std::vector<pnf_real4> out(v.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = pnf_real4{v[3 * i], v[3 * i + 1], v[3 * i + 2], 0};
+  return out;
+}
+
 class ReferenceBackend : public FilterBackend {
  public:
   explicit ReferenceBackend(int threads) : threads_(threads > 0 ? threads : omp_get_max_threads()) {}
@@ -20,9 +27,9 @@ class ReferenceBackend : public FilterBackend {
   std::size_t max_list_bytes() const override { return std::numeric_limits<std::size_t>::max(); }
 
   void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) override {
-    positions_ = positions;
-    current_ = normals;
-    next_ = normals;
+    positions_ = to_real4(positions);
+    current_ = to_real4(normals);
+    next_ = current_;
   }
 
   ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
@@ -41,33 +48,49 @@ class ReferenceBackend : public FilterBackend {
     c.inv_two_sigma_f2 = coefficients.inv_two_sigma_f2;
     c.inv_two_sigma_g2 = coefficients.inv_two_sigma_g2;
     const auto count = static_cast<std::int64_t>(count_);
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_)
+    std::size_t kept_here = 0;
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads_) reduction(+ : kept_here)
     for (std::int64_t k = 0; k < count; ++k) {
       auto s = static_cast<pnf_index>(first_ + k);
-      pnf_vec3 n =
-          pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(), current_.data(), c);
-      next_[3 * std::size_t(s)] = n.x;
-      next_[3 * std::size_t(s) + 1] = n.y;
-      next_[3 * std::size_t(s) + 2] = n.z;
+      int kept = 0;
+      pnf_vec3 n = pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(),
+                                    current_.data(), c, &kept);
+      kept_here += std::size_t(kept);
+      next_[s] = pnf_real4{n.x, n.y, n.z, 0};
     }
+
+    pass_kept_ += kept_here;
   }
 
   double end_pass() override {
     current_.swap(next_);
+    last_kept_ = pass_kept_;
+    pass_kept_ = 0;
     return 0;
   }
 
+  std::size_t degenerate_kept() const override { return last_kept_; }
+
   std::size_t device_bytes() const override { return 0; }
 
-  std::vector<double> download_normals() override { return current_; }
-  void replace_normals(const std::vector<double>& normals) override { current_ = normals; }
+  std::vector<double> download_normals() override {
+    std::vector<double> out(3 * current_.size());
+    for (std::size_t i = 0; i < current_.size(); ++i) {
+      out[3 * i] = current_[i].x;
+      out[3 * i + 1] = current_[i].y;
+      out[3 * i + 2] = current_[i].z;
+    }
+    return out;
+  }
+  void replace_normals(const std::vector<double>& normals) override { current_ = to_real4(normals); }
 
  private:
   int threads_;
-  std::vector<double> positions_;
-  std::vector<double> current_;
-  std::vector<double> next_;
+  std::vector<pnf_real4> positions_;  // the layout pnf_filter.h reads, as on the device
+  std::vector<pnf_real4> current_;
+  std::vector<pnf_real4> next_;
   std::size_t first_ = 0, count_ = 0;
+  std::size_t pass_kept_ = 0, last_kept_ = 0;  // degenerate points: this pass so far, last pass
   std::vector<std::uint64_t> offsets_;
   std::vector<std::uint32_t> indices_;
 };

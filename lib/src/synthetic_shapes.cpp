@@ -4,12 +4,13 @@
 #include <functional>
 #include <random>
 
+#include "geometry.hpp"
 #include "pnf/error.hpp"
 
 namespace pnf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::kPi;
 constexpr double kWidth = 100, kWallHeight = 60, kRoofRise = 50;  // 45-degree roof: rise = half width
 const Vec3 kOffset = {1000, 2000, 500};
 // Jitter within the face, as a fraction of the spacing: irregular like a scan, never overlapping.

@@ -110,8 +110,9 @@ def choose_params(points: ArrayLike, normals: Optional[ArrayLike] = None) -> Aut
     """What ``pnf filter --auto`` would pick for this cloud, and what it measured.
 
     Needs N >= 16 points. Returns an AutoChoice: sigma_f, sigma_g, iterations, stop_change_deg,
-    units, mean_radius (the measured spacing), rule (one line of text), estimate (a DataEstimate:
-    spacing, position_noise, normal_noise_deg, feature_share, curved_share, ...), and kwargs, a
+    units, mean_radius (pnf's one mean radius, as `pnf info` reports it), rule (one line of text),
+    estimate (a DataEstimate: mean_radius, area_spacing, position_noise, normal_noise_deg,
+    feature_share, curved_share, ...), and kwargs, a
     dict to pass on: ``pnf.improve_normals(p, n, **choice.kwargs)`` equals ``auto=True``.
     """
     return _pnf.choose_params(points, normals)
@@ -123,8 +124,7 @@ def estimate_normals(
     """Oriented unit normals for points that have none: a PCA fit over each point and its k
     nearest others, oriented by `orient`: "mst" (minimum spanning tree propagation, Hoppe 1992),
     "outward" (away from the centroid) or "viewpoint" (toward `viewpoint`). Needs N >= 3 and
-    k >= 3. Returns an (N, 3) float64 array. The points are currently copied once (to the
-    library's std::vector input).
+    k >= 3. Returns an (N, 3) float64 array. float32/float64 points are read in place.
     """
     return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
 

@@ -23,11 +23,17 @@ class DataEstimate:
     @property
     def samples(self) -> int: ...
     @property
-    def spacing(self) -> float: ...
+    def mean_radius(self) -> float:
+        """pnf's one mean surfel radius (the radius property's mean, else the estimate)."""
+    @property
+    def radius_source(self) -> str: ...
+    @property
+    def area_spacing(self) -> float:
+        """sqrt(area per point): the unit of the --auto rule, not the mean radius."""
     @property
     def position_noise(self) -> float: ...
     @property
-    def position_noise_spacings(self) -> float: ...
+    def position_noise_area_spacings(self) -> float: ...
     @property
     def normal_noise_deg(self) -> float:
         """RMS angle of the input normals to fitted quadrics; -1 without normals."""

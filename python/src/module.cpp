@@ -148,8 +148,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   run_released(pending, [&] {
     FilterParams run_params = params;
     if (automatic) {
-      // TEMPORARY until choose_filter_params(CloudView) lands on main: a PointCloud copy.
-      run_params = choose_filter_params(to_point_cloud(view)).params;
+      run_params = choose_filter_params(view).params;
     }
     if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
     // Reads the caller's arrays in place and writes straight into the result array.
@@ -168,8 +167,7 @@ AutoChoice choose_params(py::handle points, py::handle normals) {
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
   py::gil_scoped_release nogil;
-  // TEMPORARY until choose_filter_params(CloudView) lands: a PointCloud copy.
-  return choose_filter_params(to_point_cloud(view));
+  return choose_filter_params(view);
 }
 
 py::object estimate(py::handle points, int k, const std::string& orient, const std::array<double, 3>& viewpoint) {
@@ -182,9 +180,7 @@ py::object estimate(py::handle points, int k, const std::string& orient, const s
   Vec3Output out = new_vec3_array(p.size());
   {
     py::gil_scoped_release nogil;
-    // TEMPORARY until estimate_normals(Vec3ArrayView, MutableVec3ArrayView) lands: copies in and out.
-    const std::vector<Vec3> normals = estimate_normals(to_vectors(p.view()), params);
-    for (std::size_t i = 0; i < normals.size(); ++i) out.view.set(i, normals[i]);
+    estimate_normals(p.view(), out.view, params);
   }
   return out.array;
 }
@@ -231,7 +227,7 @@ py::object render(py::handle points, py::handle normals, py::handle radii, int w
   py::object image = new_image_array(std::size_t(height), std::size_t(width), &pixels);
   {
     py::gil_scoped_release nogil;
-    // TEMPORARY until a view overload of render_points exists: a PointCloud copy.
+    // render_points takes a PointCloud (no view overload yet): the one copy the module makes.
     const Image drawn =
         render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{}, options);
     std::copy(drawn.rgb.begin(), drawn.rgb.end(), pixels);
@@ -253,7 +249,9 @@ void bind_results(py::module_& m) {
   py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (auto_params.hpp); lengths in model units.")
       .def_readonly("points", &DataEstimate::points)
       .def_readonly("samples", &DataEstimate::samples)
-      .def_readonly("spacing", &DataEstimate::spacing)
+      .def_readonly("mean_radius", &DataEstimate::mean_radius)
+      .def_property_readonly("radius_source", [](const DataEstimate& e) { return std::string(to_string(e.radius_source)); })
+      .def_readonly("area_spacing", &DataEstimate::area_spacing)
       .def_readonly("position_noise", &DataEstimate::position_noise)
       .def_readonly("normal_noise_deg", &DataEstimate::normal_noise_deg)
       .def_readonly("fit_neighbours", &DataEstimate::fit_neighbours)
@@ -261,12 +259,13 @@ void bind_results(py::module_& m) {
       .def_readonly("feature_share", &DataEstimate::feature_share)
       .def_readonly("curved_share", &DataEstimate::curved_share)
       .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
-      .def_property_readonly("position_noise_spacings", &DataEstimate::position_noise_spacings)
+      .def_property_readonly("position_noise_area_spacings", &DataEstimate::position_noise_area_spacings)
       .def("__repr__", [](const DataEstimate& e) {
         return py::str(
-                   "DataEstimate(points={}, spacing={:.6g}, position_noise={:.4g}, normal_noise_deg={:.3g}, "
+                   "DataEstimate(points={}, mean_radius={:.6g}, area_spacing={:.6g}, position_noise={:.4g}, "
+                   "normal_noise_deg={:.3g}, "
                    "feature_share={:.3f}, curved_share={:.3f})")
-            .format(e.points, e.spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
+            .format(e.points, e.mean_radius, e.area_spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
       });
   py::class_<AutoChoice>(m, "AutoChoice", "The parameters `pnf filter --auto` picks, and what it measured.")
       .def_property_readonly("sigma_f", [](const AutoChoice& c) { return c.params.sigma_f; })

@@ -38,9 +38,9 @@ def test_choose_params_reports_what_it_measured():
     points, normals, _ = noisy_cube(20)
     choice = pnf.choose_params(points, normals)
     assert choice.sigma_f > 0 and choice.sigma_g > 0 and choice.iterations >= 0
-    assert choice.units == "radius" and choice.mean_radius == choice.estimate.spacing
+    assert choice.units == "radius" and choice.mean_radius == choice.estimate.mean_radius
     spacing = 2 / 19
-    assert 0.8 * spacing < choice.estimate.spacing < 1.25 * spacing
+    assert 0.8 * spacing < choice.estimate.area_spacing < 1.25 * spacing
     assert choice.estimate.points == len(points) and choice.estimate.normal_noise_deg > 0
     assert choice.estimate.feature_share > 0.05  # a cube has edges
     assert "sigma_f" in choice.rule

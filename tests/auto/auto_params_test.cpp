@@ -12,6 +12,7 @@
 #include "cli/cli_test_support.hpp"
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
+#include "pnf/mean_radius.hpp"
 #include "pnf/point_file.hpp"
 #include "test_clouds.hpp"
 
@@ -77,7 +78,7 @@ void expect_relative(double got, double want, double tolerance, const std::strin
 TEST(EstimateData, SpacingOfAGridIsItsStep) {
   const PointCloud grid = jittered_grid(80, 0.5, 0.1, 3);
   const DataEstimate e = estimate_data(grid);
-  expect_relative(e.spacing, 0.5, kSpacingTolerance, "spacing");
+  expect_relative(e.area_spacing, 0.5, kSpacingTolerance, "area spacing");
   EXPECT_LT(e.position_noise, 0.05 * 0.5) << "a flat grid has no noise along the normal";
   EXPECT_LT(e.normal_noise_deg, 0.5);
   EXPECT_EQ(e.points, grid.size());
@@ -88,7 +89,7 @@ TEST(EstimateData, PlaneWithKnownNoise) {
     const Noisy n = random_plane(20000, noise, 8, 11);
     const DataEstimate e = estimate_data(n.cloud);
     const std::string at = "plane, noise " + std::to_string(noise) + " spacings";
-    expect_relative(e.spacing, n.spacing, kSpacingTolerance, at + ", spacing");
+    expect_relative(e.area_spacing, n.spacing, kSpacingTolerance, at + ", area spacing");
     expect_relative(e.position_noise, noise * n.spacing, kNoiseTolerance, at + ", position noise");
     expect_relative(e.normal_noise_deg, rms_angle(n.cloud.normals, n.truth), kNoiseTolerance, at + ", normal noise");
   }
@@ -100,7 +101,7 @@ TEST(EstimateData, SphereWithKnownNoise) {
       const Noisy n = noisy_sphere(20000, noise, degrees, 5);
       const DataEstimate e = estimate_data(n.cloud);
       const std::string at = "sphere, noise " + std::to_string(noise) + ", " + std::to_string(degrees) + " deg";
-      expect_relative(e.spacing, n.spacing, kSpacingTolerance, at + ", spacing");
+      expect_relative(e.area_spacing, n.spacing, kSpacingTolerance, at + ", area spacing");
       if (noise > 0) {
         expect_relative(e.position_noise, noise * n.spacing, kNoiseTolerance, at + ", position noise");
       } else {
@@ -175,7 +176,7 @@ TEST(EstimateData, ThinTubeIsSmoothNotAllEdges) {
     torus.normals.push_back(n);
   }
   const DataEstimate e = estimate_data(torus);
-  EXPECT_NEAR(kSmall / e.spacing, 9.4, 1.0) << "the tube radius in spacings this test is about";
+  EXPECT_NEAR(kSmall / e.area_spacing, 9.4, 1.0) << "the tube radius in spacings this test is about";
   EXPECT_LT(e.feature_share, 0.08);
   EXPECT_GT(e.curved_share, 0.9);
   EXPECT_LT(e.normal_noise_deg, 0.5) << "exact normals";
@@ -198,8 +199,9 @@ TEST(EstimateData, TranslationChangesNothing) {
   const DataEstimate here = estimate_data(n.cloud);
   for (Vec3& p : n.cloud.positions) p = {p[0] + 1e4, p[1] - 2e4, p[2] + 5e3};
   const DataEstimate there = estimate_data(n.cloud);
-  EXPECT_NEAR(there.spacing, here.spacing, 1e-6 * here.spacing);
-  EXPECT_NEAR(there.position_noise, here.position_noise, 1e-6 * here.spacing);
+  EXPECT_NEAR(there.area_spacing, here.area_spacing, 1e-6 * here.area_spacing);
+  EXPECT_NEAR(there.mean_radius, here.mean_radius, 1e-6 * here.mean_radius);
+  EXPECT_NEAR(there.position_noise, here.position_noise, 1e-6 * here.area_spacing);
   EXPECT_NEAR(there.normal_noise_deg, here.normal_noise_deg, 1e-4);
 }
 
@@ -233,8 +235,9 @@ DataEstimate measured(double noise_spacings, double degrees, double feature_shar
   DataEstimate e;
   e.feature_share = feature_share;
   e.curved_share = curved_share;
-  e.spacing = 2.0;
-  e.position_noise = noise_spacings * e.spacing;
+  e.area_spacing = 2.0;
+  e.mean_radius = 2.0;
+  e.position_noise = noise_spacings * e.area_spacing;
   e.normal_noise_deg = degrees;
   return e;
 }
@@ -298,7 +301,7 @@ TEST(ChooseFilterParams, SmoothShapesFilterOnlyWhatNeedsIt) {
   smoothed.normal_error_correlation = 0.05;
   EXPECT_GE(choose_filter_params(smoothed).params.sigma_g, 1e5) << "independent errors average away";
   smoothed.normal_error_correlation = 0.35;
-  smoothed.position_noise = 0.25 * smoothed.spacing;
+  smoothed.position_noise = 0.25 * smoothed.area_spacing;
   EXPECT_GE(choose_filter_params(smoothed).params.sigma_g, 1e5) << "noisy positions cannot re-derive the normals";
   DataEstimate no_normals = measured(0.0, -1, 0.0, 1.0);
   EXPECT_GT(choose_filter_params(no_normals).params.iterations, 0) << "nothing says the normals are good";
@@ -324,15 +327,101 @@ TEST(ChooseFilterParams, SmoothShapesDropTheFeatureTerm) {
 TEST(ChooseFilterParams, RejectsAMissingSpacing) {
   DataEstimate e;
   EXPECT_THROW(choose_filter_params(e), Error);
-  e.spacing = std::nan("");
+  e.mean_radius = 1;
+  e.area_spacing = std::nan("");
   EXPECT_THROW(choose_filter_params(e), Error);
+  e.area_spacing = 1;
+  e.mean_radius = 0;
+  EXPECT_THROW(choose_filter_params(e), Error);
+  e.mean_radius = 1;
+  EXPECT_NO_THROW(choose_filter_params(e));
+}
+
+// The rule's lengths are in area spacings; the parameters come out in mean radii, and the model
+// lengths (sigma x mean radius) do not depend on which mean radius the cloud has.
+TEST(ChooseFilterParams, ModelLengthsDoNotDependOnTheMeanRadius) {
+  for (double noise : {0.0, 0.3, 1.0, 4.0}) {
+    for (double curved : {0.0, 0.7}) {
+      DataEstimate same = measured(noise, 5, 0.3, curved);
+      DataEstimate smaller = same;
+      smaller.mean_radius = 0.82 * same.area_spacing;  // what random samples give
+      const AutoChoice a = choose_filter_params(same), b = choose_filter_params(smaller);
+      EXPECT_EQ(b.params.mean_radius, smaller.mean_radius);
+      EXPECT_NEAR(b.params.sigma_f * b.params.mean_radius, a.params.sigma_f * a.params.mean_radius,
+                  1e-12 * a.params.sigma_f * a.params.mean_radius)
+          << b.rule;
+      EXPECT_NEAR(b.params.sigma_g * b.params.mean_radius, a.params.sigma_g * a.params.mean_radius,
+                  1e-12 * a.params.sigma_g * a.params.mean_radius)
+          << b.rule;
+      EXPECT_EQ(b.params.iterations, a.params.iterations);
+      EXPECT_NE(b.rule.find("mean radii"), std::string::npos) << b.rule;
+    }
+  }
 }
 
 TEST(ChooseFilterParams, FromACloudUsesItsEstimate) {
   const Noisy n = noisy_sphere(8000, 0.3, 6, 9);
   const AutoChoice c = choose_filter_params(n.cloud);
-  EXPECT_EQ(c.params.mean_radius, c.estimate.spacing);
-  EXPECT_NEAR(c.estimate.position_noise_spacings(), 0.3, 0.3 * kNoiseTolerance);
+  EXPECT_EQ(c.params.mean_radius, c.estimate.mean_radius);
+  EXPECT_EQ(c.estimate.mean_radius, estimate_mean_radius(n.cloud.positions)) << "the one spacing, bit for bit";
+  EXPECT_EQ(c.estimate.radius_source, RadiusSource::estimate);
+  EXPECT_NEAR(c.estimate.position_noise_area_spacings(), 0.3, 0.3 * kNoiseTolerance);
+}
+
+// A radius property wins: it is the mean radius, and the sigmas are converted to it.
+TEST(EstimateData, TheRadiusPropertyIsTheMeanRadius) {
+  Noisy n = noisy_sphere(5000, 0.2, 5, 3);
+  const DataEstimate without = estimate_data(n.cloud);
+  n.cloud.radii.assign(n.cloud.size(), 0.0);
+  double sum = 0;
+  for (std::size_t i = 0; i < n.cloud.size(); ++i) sum += n.cloud.radii[i] = 0.1 + 0.01 * double(i % 7);
+  const DataEstimate with = estimate_data(n.cloud);
+  EXPECT_EQ(with.radius_source, RadiusSource::property);
+  EXPECT_DOUBLE_EQ(with.mean_radius, sum / double(n.cloud.size()));
+  EXPECT_EQ(with.area_spacing, without.area_spacing) << "the rule's own density measure is unchanged";
+  EXPECT_EQ(with.position_noise, without.position_noise);
+  n.cloud.radii[17] = -1;
+  EXPECT_THROW(estimate_data(n.cloud), Error) << "a bad radius is an error";
+}
+
+// Views of the caller's memory: float rows and strided rows give the PointCloud's estimate to the
+// last bit (float values widen exactly).
+TEST(EstimateData, FloatAndStridedViewsGiveTheCloudsEstimate) {
+  const Noisy n = noisy_sphere(4000, 0.3, 6, 12);
+  struct Row {
+    float position[3];
+    float pad;
+    float normal[3];
+  };
+  std::vector<Row> rows(n.cloud.size());
+  PointCloud widened;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      rows[i].position[c] = float(n.cloud.positions[i][c]);
+      rows[i].normal[c] = float(n.cloud.normals[i][c]);
+    }
+  }
+  // A second loop: GCC 12 at -O2 forwards the unrounded double into a push_back in the loop that
+  // stores the float (measured), which would make `widened` hold other values than `rows`.
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    widened.positions.push_back({rows[i].position[0], rows[i].position[1], rows[i].position[2]});
+    widened.normals.push_back({rows[i].normal[0], rows[i].normal[1], rows[i].normal[2]});
+  }
+  const CloudView view(Vec3ArrayView(rows[0].position, rows.size(), ScalarType::float32, sizeof(Row)),
+                       Vec3ArrayView(rows[0].normal, rows.size(), ScalarType::float32, sizeof(Row)));
+  const AutoChoice from_cloud = choose_filter_params(widened);
+  const AutoChoice from_view = choose_filter_params(view);
+  EXPECT_EQ(from_view.estimate.mean_radius, from_cloud.estimate.mean_radius);
+  EXPECT_EQ(from_view.estimate.area_spacing, from_cloud.estimate.area_spacing);
+  EXPECT_EQ(from_view.estimate.position_noise, from_cloud.estimate.position_noise);
+  EXPECT_EQ(from_view.estimate.normal_noise_deg, from_cloud.estimate.normal_noise_deg);
+  EXPECT_EQ(from_view.estimate.feature_share, from_cloud.estimate.feature_share);
+  EXPECT_EQ(from_view.estimate.curved_share, from_cloud.estimate.curved_share);
+  EXPECT_EQ(from_view.estimate.normal_error_correlation, from_cloud.estimate.normal_error_correlation);
+  EXPECT_EQ(from_view.params.sigma_f, from_cloud.params.sigma_f);
+  EXPECT_EQ(from_view.params.sigma_g, from_cloud.params.sigma_g);
+  EXPECT_EQ(from_view.params.iterations, from_cloud.params.iterations);
+  EXPECT_EQ(from_view.rule, from_cloud.rule);
 }
 
 // ---- pnf filter --auto --------------------------------------------------------------------

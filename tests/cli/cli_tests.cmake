@@ -3,4 +3,5 @@
 # read ../shared/data via PNF_SHARED_DATA_DIR.
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_test.cpp
-  ${PROJECT_SOURCE_DIR}/tests/cli/cli_errors_test.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/cli/cli_errors_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/cli/cli_spacing_test.cpp)

@@ -400,6 +400,51 @@ TEST(EstimateNormals, ValidationNamesTheBadFieldOrVertex) {
   EXPECT_NO_THROW(EstimateParams{}.validate());
 }
 
+// Views of the caller's memory: float rows with a stride, in and out, give the vector call's
+// normals to the last bit (float positions widen exactly; the float output is the rounding of
+// the double normals), and a strided double view gives them exactly. Every orientation.
+TEST(EstimateNormals, FloatAndStridedViewsGiveTheVectorCallsNormals) {
+  const Sample sphere = noisy_sphere(3000, 21);
+  struct FloatRow {
+    float position[3];
+    float normal[3];
+    float extra;  // another field of the caller's record
+  };
+  struct DoubleRow {
+    double normal[3];
+    double extra;
+  };
+  const std::size_t n = sphere.positions.size();
+  std::vector<FloatRow> rows(n);
+  std::vector<Vec3> widened(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < 3; ++c) rows[i].position[c] = float(sphere.positions[i][c]);
+  }
+  // Widened in a loop of its own: GCC 12 at -O2 can forward the unrounded double into the
+  // store-then-read of one loop (seen in auto_params_test).
+  for (std::size_t i = 0; i < n; ++i) widened[i] = {rows[i].position[0], rows[i].position[1], rows[i].position[2]};
+  const Vec3ArrayView positions(rows[0].position, n, ScalarType::float32, sizeof(FloatRow));
+  for (const Orientation orientation : {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
+    SCOPED_TRACE(to_string(orientation));
+    const std::vector<Vec3> expected = estimate_normals(widened, params_with(orientation));
+    estimate_normals(positions, MutableVec3ArrayView(rows[0].normal, n, ScalarType::float32, sizeof(FloatRow)),
+                     params_with(orientation));
+    std::vector<DoubleRow> out(n);
+    estimate_normals(positions, MutableVec3ArrayView(out[0].normal, n, ScalarType::float64, sizeof(DoubleRow)),
+                     params_with(orientation));
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        differing += out[i].normal[c] != expected[i][c] || rows[i].normal[c] != float(expected[i][c]);
+      }
+    }
+    EXPECT_EQ(differing, 0u);
+  }
+  std::vector<Vec3> short_output(n - 1);
+  expect_error([&] { estimate_normals(positions, MutableVec3ArrayView(short_output), EstimateParams{}); },
+               ErrorCode::invalid_argument, std::vector<std::string>{"output", std::to_string(n - 1)});
+}
+
 TEST(EstimateNormals, OrientationNamesRoundTrip) {
   for (const Orientation orientation : {Orientation::viewpoint, Orientation::outward, Orientation::mst}) {
     EXPECT_EQ(parse_orientation(to_string(orientation)), orientation);

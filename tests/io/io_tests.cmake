@@ -3,4 +3,7 @@
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/io/point_file_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/io/point_file_errors_test.cpp
-  ${PROJECT_SOURCE_DIR}/tests/io/point_file_shared_data_test.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/io/point_file_shared_data_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/io/pcd_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/io/pcd_errors_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/io/pcd_shared_data_test.cpp)

@@ -68,6 +68,22 @@ int guarded(Stage& stage, const std::function<int()>& body) {
   }
 }
 
+void add_pcd_data_option(CLI::App& app, std::string& value) {
+  app.add_option("--pcd-data", value,
+                 "DATA of a .pcd OUT: ascii, binary or binary_compressed (default: the input's; binary for a "
+                 "non-PCD input; ascii with --ascii)")
+      ->check(CLI::IsMember({"ascii", "binary", "binary_compressed"}));
+}
+
+WriteOptions write_options(bool ascii, const std::string& pcd_data) {
+  WriteOptions options;
+  options.ascii = ascii;
+  for (const PcdData data : {PcdData::ascii, PcdData::binary, PcdData::binary_compressed}) {
+    if (pcd_data == to_string(data)) options.pcd_data = data;
+  }
+  return options;
+}
+
 void DeviceFlags::add_to(CLI::App& app, bool with_backend) {
   app.add_option("--device", device,
                  "where to run: reference (CPU, double), opencl, opencl:SELECTOR or SELECTOR, where SELECTOR is "

@@ -8,6 +8,7 @@
 
 #include "pnf/error.hpp"
 #include "pnf/normal_filter.hpp"
+#include "pnf/point_file.hpp"
 
 namespace pnf::cli {
 
@@ -45,5 +46,12 @@ struct DeviceFlags {
   void add_to(CLI::App& app, bool with_backend = true);
   FilterOptions options() const;
 };
+
+// --pcd-data ascii|binary|binary_compressed for the commands that write: the DATA encoding of a
+// .pcd OUT (default: the input's, binary for a non-PCD input; ascii with --ascii). Binds `value`.
+void add_pcd_data_option(CLI::App& app, std::string& value);
+
+// The WriteOptions for --ascii and --pcd-data (empty: not given).
+WriteOptions write_options(bool ascii, const std::string& pcd_data);
 
 }  // namespace pnf::cli

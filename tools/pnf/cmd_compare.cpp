@@ -5,6 +5,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "pnf/bounding_box.hpp"
 #include "pnf/png.hpp"
 #include "pnf/render.hpp"
 
@@ -20,17 +21,11 @@ struct CompareFlags {
   RenderFlags render;
 };
 
+// The smallest box holding both clouds (an empty cloud adds nothing).
 BoundingBox union_bounds(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  BoundingBox box;
-  bool first = true;
-  for (const std::vector<Vec3>* positions : {&a, &b})
-    for (const Vec3& p : *positions)
-      for (int k = 0; k < 3; ++k) {
-        box.min[k] = first ? p[k] : std::min(box.min[k], p[k]);
-        box.max[k] = first ? p[k] : std::max(box.max[k], p[k]);
-        if (k == 2) first = false;
-      }
-  return box;
+  if (a.empty()) return bounding_box(b);
+  if (b.empty()) return bounding_box(a);
+  return bounding_box(a).united(bounding_box(b));
 }
 
 // Copies `panel` into `sheet` with its left edge at column x0, then draws the separator at x0

@@ -6,6 +6,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "geometry.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/synthetic_shapes.hpp"
 
@@ -19,11 +20,7 @@ struct DemoFlags {
   DeviceFlags device;
 };
 
-double angle_deg(const Vec3& a, const Vec3& b) {
-  Vec3 c = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * 180 /
-         3.14159265358979323846;
-}
+using geometry::angle_degrees;
 
 struct ErrorStats {
   double mean = 0, median = 0, p90 = 0;
@@ -31,7 +28,7 @@ struct ErrorStats {
 
 ErrorStats error_stats(const std::vector<Vec3>& normals, const std::vector<Vec3>& truth) {
   std::vector<double> a(normals.size());
-  for (std::size_t i = 0; i < a.size(); ++i) a[i] = angle_deg(normals[i], truth[i]);
+  for (std::size_t i = 0; i < a.size(); ++i) a[i] = angle_degrees(normals[i], truth[i]);
   ErrorStats s;
   for (double v : a) s.mean += v / double(a.size());
   std::sort(a.begin(), a.end());
@@ -62,8 +59,8 @@ int run_demo(const DemoFlags& flags) {
     ErrorStats after = error_stats(result.normals, house.true_normals);
     std::size_t better = 0;
     for (std::size_t i = 0; i < house.cloud.size(); ++i) {
-      better += angle_deg(result.normals[i], house.true_normals[i]) <
-                angle_deg(house.cloud.normals[i], house.true_normals[i]);
+      better += angle_degrees(result.normals[i], house.true_normals[i]) <
+                angle_degrees(house.cloud.normals[i], house.true_normals[i]);
     }
     std::printf("pnf demo: a synthetic scanned house, %zu points, spacing %.3g, sharp 90 and 135 degree edges\n",
                 house.cloud.size(), house.spacing);

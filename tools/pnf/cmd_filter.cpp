@@ -23,6 +23,7 @@ struct FilterFlags {
   double max_seconds = FilterOptions{}.max_seconds;
   DeviceFlags device;
   bool ascii = false, quiet = false, in_place = false;
+  std::string pcd_data;
   bool automatic = false;   // --auto: sigma_f, sigma_g and passes from the data
   double stop_change = -1;  // --stop-change DEG; < 0 when not given
 };
@@ -65,9 +66,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
   std::fprintf(stderr,
                "pnf filter --auto: estimated from %zu of %zu points in %.2f s (fits of %d neighbours, radius %.4g)\n",
                e.samples, e.points, seconds, e.fit_neighbours, e.fit_radius);
-  std::fprintf(stderr, "  spacing          %.6g model units\n", e.spacing);
-  std::fprintf(stderr, "  position noise   %.4g model units = %.3g spacings (along the normal)\n", e.position_noise,
-               e.position_noise_spacings());
+  std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
+               to_string(e.radius_source), e.area_spacing);
+  std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
+               e.position_noise, e.position_noise_area_spacings());
   if (e.normal_noise_deg >= 0) {
     std::fprintf(stderr, "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f\n",
                  e.normal_noise_deg, e.normal_error_correlation);
@@ -114,7 +116,7 @@ int run_filter(const FilterFlags& flags) {
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
-    write_point_file(flags.out, file, WriteOptions{flags.ascii});
+    write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
     if (!flags.quiet) print_summary(flags, params, result.summary, read_s, seconds_since(t));
     return int(kOk);
   });
@@ -125,7 +127,7 @@ int run_filter(const FilterFlags& flags) {
 Command add_filter_command(CLI::App& parent) {
   auto flags = std::make_shared<FilterFlags>();
   CLI::App* app = parent.add_subcommand("filter", "Improve the normals of a point file (Jones, Durand, Zwicker 2004)");
-  app->add_option("IN", flags->in, "input point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("IN", flags->in, "input point file with normals (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
   // Defaults shown in the help are the library's (FilterParams{}, MemoryPolicy{}), captured from
   // the flags' initial values, never written here.
@@ -166,6 +168,7 @@ Command add_filter_command(CLI::App& parent) {
       ->capture_default_str();
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
+  add_pcd_data_option(*app, flags->pcd_data);
   app->add_flag("--in-place", flags->in_place, "allow OUT to be IN (the file is replaced atomically)");
   app->add_flag("-q,--quiet", flags->quiet, "print nothing but errors");
   return {app, [flags] { return run_filter(*flags); }};

@@ -14,18 +14,41 @@ namespace {
 // Normals within this of length 1 count as unit: float32 storage rounds at about 1e-7.
 constexpr double kUnitTolerance = 1e-5;
 
+void print_pcd(const PcdHeader& pcd) {
+  std::printf("  format       pcd %s, DATA %s\n", pcd.version.c_str(), to_string(pcd.data));
+  for (const std::string& c : pcd.comments) std::printf("  comment      %s\n", c.c_str());
+  std::printf("  fields      ");
+  for (const PcdField& f : pcd.fields) {
+    std::printf(" %s(%c%u", f.name.c_str(), f.type, f.size);
+    if (f.count != 1) std::printf(" x%zu", f.count);
+    std::printf(")");
+  }
+  std::printf("\n");
+  if (pcd.height > 1)
+    std::printf("  organised    %zu x %zu (WIDTH x HEIGHT)\n", pcd.width, pcd.height);
+  else
+    std::printf("  organised    no (WIDTH %zu, HEIGHT 1)\n", pcd.width);
+  const auto& v = pcd.viewpoint;
+  std::printf("  viewpoint    origin %.6g %.6g %.6g, orientation (w x y z) %.6g %.6g %.6g %.6g\n", v[0], v[1], v[2],
+              v[3], v[4], v[5], v[6]);
+}
+
 int run_info(const std::string& path) {
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
     PointFile file = read_point_file(path);
     const PlyHeader& header = file.header();
     std::printf("%s\n", path.c_str());
-    if (file.source_format() == PointFileFormat::ply)
+    const PcdHeader* pcd = file.pcd_header();
+    if (pcd) {
+      print_pcd(*pcd);
+    } else if (file.source_format() == PointFileFormat::ply) {
       std::printf("  format       ply %s\n", to_string(header.encoding));
-    else
+    } else {
       std::printf("  format       text (x y z%s per line)\n", file.has_normals() ? " nx ny nz" : "");
+    }
     for (const PlyComment& c : header.comments) std::printf("  %-12s %s\n", c.keyword.c_str(), c.text.c_str());
-    for (const PlyElement& e : header.elements) {
+    for (const PlyElement& e : pcd ? std::vector<PlyElement>{} : header.elements) {
       std::printf("  element      %s %zu:", e.name.c_str(), e.count);
       for (const PlyProperty& p : e.properties) {
         if (p.is_list)
@@ -36,7 +59,12 @@ int run_info(const std::string& path) {
       std::printf("\n");
     }
     PointCloud cloud = file.cloud();
-    std::printf("  points       %zu\n", cloud.size());
+    if (pcd) {
+      std::printf("  points       %zu valid, %zu invalid (NaN coordinates: kept in place, left out of estimates)\n",
+                  cloud.size(), file.size() - cloud.size());
+    } else {
+      std::printf("  points       %zu\n", cloud.size());
+    }
     if (cloud.size() == 0) return int(kOk);
     Vec3 lo = cloud.positions[0], hi = cloud.positions[0];
     for (const Vec3& p : cloud.positions)
@@ -74,7 +102,7 @@ Command add_info_command(CLI::App& parent) {
   auto path = std::make_shared<std::string>();
   CLI::App* app =
       parent.add_subcommand("info", "Describe a point file: elements, properties, bounds, spacing, normals");
-  app->add_option("IN", *path, "point file (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("IN", *path, "point file (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   return {app, [path] { return run_info(*path); }};
 }
 

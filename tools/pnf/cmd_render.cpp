@@ -9,6 +9,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "geometry.hpp"
 #include "pnf/png.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/render.hpp"
@@ -16,7 +17,6 @@
 namespace pnf::cli {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Splits "a,b,c" into exactly `count` finite numbers; false when it is anything else.
 bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
@@ -148,12 +148,7 @@ PointCloud read_cloud_with_normals(const std::string& path, const std::string& r
 AngleStats angle_stats(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   AngleStats stats;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const Vec3& p = a[i];
-    const Vec3& q = b[i];
-    const Vec3 c = {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
-    const double angle =
-        std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), p[0] * q[0] + p[1] * q[1] + p[2] * q[2]) * 180 /
-        kPi;
+    const double angle = geometry::angle_degrees(a[i], b[i]);
     stats.mean += angle;
     stats.max = std::max(stats.max, angle);
   }
@@ -164,7 +159,7 @@ AngleStats angle_stats(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 Command add_render_command(CLI::App& parent) {
   auto flags = std::make_shared<RenderCommandFlags>();
   CLI::App* app = parent.add_subcommand("render", "Draw a point model as lit surfels into a PNG picture");
-  app->add_option("IN", flags->in, "point file with normals (.ply, .xyz, .xyzn, .pwn)")->required();
+  app->add_option("IN", flags->in, "point file with normals (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "the picture, .png")->required();
   app->add_option("--mode", flags->mode,
                   "shaded: grey, lit from the normals (default); normals: colour = n * 0.5 + 0.5; error: colour by "

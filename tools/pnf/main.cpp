@@ -13,9 +13,9 @@ namespace pnf::cli {
 void check_output_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".ply" && ext != ".xyz" && ext != ".xyzn" && ext != ".pwn") {
+  if (ext != ".ply" && ext != ".pcd" && ext != ".xyz" && ext != ".xyzn" && ext != ".pwn") {
     throw Error(ErrorCode::invalid_argument,
-                path + ": unknown output format '" + ext + "'; use .ply, .xyz, .xyzn or .pwn");
+                path + ": unknown output format '" + ext + "'; use .ply, .pcd, .xyz, .xyzn or .pwn");
   }
 }
 
@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   using namespace pnf::cli;
   CLI::App app{"pnf: clean the normals of point models while keeping their sharp features.\n"};
   app.footer(
+      "Formats (by extension): .ply, .pcd (PCL; NaN points are invalid pixels, kept in place with NaN normals), "
+      ".xyz, .xyzn, .pwn.\n"
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input error, 4 device error, 5 output error, 6 cancelled.\n"
       "Environment: PNF_DEVICE picks the OpenCL device (cpu, gpu, accelerator, P:D, or part of a name).");
   app.require_subcommand(1);

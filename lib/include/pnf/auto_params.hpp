@@ -1,15 +1,23 @@
 // pnf::choose_filter_params — filter parameters estimated from the data (`pnf filter --auto`).
 //
 // The paper's settings (FilterParams defaults: sigma_f 4, sigma_g 0.5 mean radii, 4 passes) suit
-// lightly noisy models. This header measures a cloud — its sample spacing, the noise of its
+// lightly noisy models. This header measures a cloud — its sample density, the noise of its
 // positions along the normal, the angular noise of its normals — and picks sigma_f, sigma_g and
 // the passes by one documented rule (docs/auto.md, which also shows the evaluation behind it).
+//
+// Two lengths appear here. The rule is written in "area spacings" (the square root of the
+// surface area per point, which --auto measures itself and which noise does not inflate); the
+// parameters it returns are in mean surfel radii, pnf's one spacing (pnf/mean_radius.hpp), like
+// every other FilterParams. The lengths in model units are the rule's: sigma_f in mean radii
+// times the mean radius is sigma_f in area spacings times the area spacing.
 #pragma once
 
 #include <cstddef>
 #include <string>
 
+#include "pnf/cloud_view.hpp"
 #include "pnf/filter_params.hpp"
+#include "pnf/normal_filter.hpp"  // RadiusSource
 #include "pnf/point_cloud.hpp"
 
 namespace pnf {
@@ -18,11 +26,16 @@ namespace pnf {
 struct DataEstimate {
   std::size_t points = 0;   // N
   std::size_t samples = 0;  // points whose neighbourhoods were fitted (spread evenly through the cloud)
-  // Sample spacing: the square root of the surface area per point, from the count of
-  // neighbours inside a cylinder around the fitted surface (so position noise does not inflate
-  // it). On a square grid of spacing h it is h; on uniformly random samples it is about 1.2
-  // times pnf's default mean radius (the mean distance to the 4 nearest points).
-  double spacing = 0;
+  // The mean surfel radius, pnf's one spacing (pnf::mean_radius): the mean of the cloud's radius
+  // property when it has one (radius_source property), else estimate_mean_radius
+  // (radius_source estimate). The same value `pnf info` and the filter's radius units use.
+  double mean_radius = 0;
+  RadiusSource radius_source = RadiusSource::not_used;
+  // The density measure of the rule (its sigmas and noise ratios are in these units): the square
+  // root of the surface area per point, from the count of neighbours inside a cylinder around
+  // the fitted surface (so position noise does not inflate it). On a square grid of spacing h
+  // it is h; on uniformly random samples about 1.2 times the estimated mean radius.
+  double area_spacing = 0;
   // Standard deviation of the positions along the surface normal: the residual of local
   // quadric fits, the median over the samples.
   double position_noise = 0;
@@ -49,29 +62,32 @@ struct DataEstimate {
   // over several spacings (PCA over 64), whose errors averaging cannot remove. 0 without normals.
   double normal_error_correlation = 0;
 
-  // position_noise / spacing, or 0 when spacing is 0.
-  double position_noise_spacings() const { return spacing > 0 ? position_noise / spacing : 0.0; }
+  // position_noise / area_spacing (the rule's p), or 0 when area_spacing is 0.
+  double position_noise_area_spacings() const { return area_spacing > 0 ? position_noise / area_spacing : 0.0; }
 };
 
-// Measures `cloud` (N positions, N >= 16, finite; normals optional — with none,
-// normal_noise_deg is -1). Deterministic: the same cloud gives the same estimate on every
-// machine and thread count. Cost: a kd-tree over the N points plus at most about 7 million
+// Measures `cloud` (N positions, N >= 16, finite, float or double views of any stride; normals
+// optional — with none, normal_noise_deg is -1; radii optional, finite and > 0). Deterministic:
+// the same cloud gives the same estimate on every machine and thread count, and a float view
+// the estimate of the same values as doubles. Cost: a kd-tree over the N points plus at most about 7 million
 // neighbour look-ups and fits, whatever N (up to 4 scales for the noise, up to 3 for the
 // features; about 2 million and 0.3 s on 2 cores for 100k clean points).
-// Throws pnf::Error(invalid_input) for N < 16, a non-finite coordinate (naming the vertex), or
-// when no neighbourhood could be fitted (all points on a line or one spot).
+// Throws pnf::Error(invalid_input) for N < 16, a non-finite coordinate or a bad radius (naming
+// the vertex), when no neighbourhood could be fitted (all points on a line or one spot), or
+// when the mean radius cannot be estimated.
 // Thread safety: may be called concurrently.
-DataEstimate estimate_data(const PointCloud& cloud);
+DataEstimate estimate_data(const CloudView& cloud);
 
 // The outcome of the rule: parameters ready for NormalFilter::run, what they came from, and the
 // rule as one line of text for reports.
 struct AutoChoice {
-  FilterParams params;  // units radius, mean_radius = estimate.spacing (model units)
+  FilterParams params;  // units radius, mean_radius = estimate.mean_radius (model units)
   DataEstimate estimate;
   std::string rule;  // e.g. "noise 0.48 spacings, normals 9.1 deg -> sigma_f 4, sigma_g 1.2, ..."
 };
 
-// The rule (docs/auto.md), with p = position_noise / spacing, sigmas in spacings, "edges" meaning
+// The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings
+// (then converted to mean radii: times area_spacing / mean_radius), "edges" meaning
 // feature_share >= 8% and "curved" curved_share >= 15%:
 //   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
 //   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes;
@@ -83,11 +99,12 @@ struct AutoChoice {
 //     3.3, sigma_g 0.2 + 1.5 p, 1 pass (the clean positions re-derive already-smoothed normals);
 //     else 1 pass when normal_noise_deg < 3, else 2 (also without normals);
 //   always: stop_change_deg 0.01 (passes end once the normals move less on average).
-// The constants and their reasons are in auto_params.cpp. Throws pnf::Error(invalid_argument)
-// when spacing is not > 0 and finite. Thread safety: pure function.
+// The constants and their reasons are in choose_filter_params.cpp. Throws
+// pnf::Error(invalid_argument) when area_spacing or mean_radius is not > 0 and finite.
+// Thread safety: pure function.
 AutoChoice choose_filter_params(const DataEstimate& estimate);
 
 // estimate_data then the rule above.
-AutoChoice choose_filter_params(const PointCloud& cloud);
+AutoChoice choose_filter_params(const CloudView& cloud);
 
 }  // namespace pnf

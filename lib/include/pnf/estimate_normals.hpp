@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "pnf/cloud_view.hpp"
 #include "pnf/point_cloud.hpp"
 
 namespace pnf {
@@ -58,9 +59,12 @@ struct EstimateParams {
 
 // Estimates one oriented unit normal per point.
 //
-// positions: N points in model units, N >= 3, every coordinate finite.
-// Returns:   N unit normals (Euclidean length 1 up to rounding), normals[i] belongs to
-//            positions[i].
+// positions:   N points in model units (N by 3, float or double, any stride), N >= 3, every
+//              coordinate finite. Read in place; float values widen exactly, so a float view
+//              gives the normals of the same values as doubles, bit for bit.
+// normals_out: N rows (float or double, any stride) that receive the N unit normals (Euclidean
+//              length 1 up to rounding; rounded to float for a float view); row i belongs to
+//              positions[i]. Must not overlap positions. Written only after every check passed.
 //
 // Each normal is the eigenvector of the smallest eigenvalue of the covariance of point i and
 // its k nearest other points (Euclidean distance; ties broken by the kd-tree, deterministically)
@@ -69,9 +73,9 @@ struct EstimateParams {
 // coincident) the normal is +z; where it is a line, it is some unit vector perpendicular to the
 // line. Neither case produces NaN. Duplicate points are allowed.
 //
-// Throws Error: ErrorCode::invalid_argument from params.validate(); ErrorCode::invalid_input
-// when N < 3, N > 2^31 − 1, or a coordinate is NaN or infinite (the message names the first such
-// vertex index).
+// Throws Error: ErrorCode::invalid_argument from params.validate() or when normals_out does not
+// have N rows; ErrorCode::invalid_input when N < 3, N > 2^31 − 1, or a coordinate is NaN or
+// infinite (the message names the first such vertex index).
 //
 // Cost: O(N k log N) time for the kd-tree search and the fits; Orientation::mst adds a sort of
 // the ~N k graph edges. Memory beyond the input: about (120 + 4 k) N bytes, and about 7 k N
@@ -81,6 +85,10 @@ struct EstimateParams {
 // Thread safety: reentrant; concurrent calls on different or the same (const) data are safe. The
 // per-point work runs on OpenMP threads (omp_get_max_threads()), and the result is bit-for-bit
 // the same for any number of threads.
+void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out,
+                      const EstimateParams& params = EstimateParams{});
+
+// The same, returning the normals: estimate_normals(positions, normals, params) into a new vector.
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{});
 
 }  // namespace pnf

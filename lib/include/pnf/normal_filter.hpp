@@ -79,6 +79,7 @@ struct FilterSummary {
   std::vector<double> pass_seconds;     // wall time of each pass
   std::vector<double> kernel_seconds;   // device time of each pass (OpenCL event profiling)
   int passes_run = 0;                   // < iterations when the stop rule ended the run early
+  std::size_t degenerate_kept = 0;      // normals kept because J was degenerate (SPEC), summed over passes
   std::vector<double> mean_change_deg;  // per pass, with the stop rule: mean angle to the previous pass
 };
 

@@ -1,18 +1,28 @@
-// pnf::PointFile — lossless reading and writing of point files (.ply, .xyz, .xyzn, .pwn).
+// pnf::PointFile — lossless reading and writing of point files (.ply, .pcd, .xyz, .xyzn, .pwn).
 //
 // A PointFile keeps everything its file carried, so that writing it back reproduces the file:
 // for PLY the whole header (format, version, comments, obj_info, every element and property
-// with its declared type, in order) and the raw values of every element. pnf reads positions,
-// normals and radii out of it (cloud()) and puts improved normals back (set_normals()); all
-// other data passes through unchanged.
+// with its declared type, in order) and the raw values of every element; for PCD (PCL's point
+// cloud format) every field with its SIZE, TYPE and COUNT, WIDTH and HEIGHT, VIEWPOINT and the
+// bits of every value. pnf reads positions, normals and radii out of it (cloud()) and puts
+// improved normals back (set_normals()); all other data passes through unchanged.
+//
+// Invalid points (PCD only). PCL marks the pixels of an organised cloud that saw nothing with
+// NaN coordinates. In a PCD file such a row is an invalid point, not an error: it stays in the
+// file in its place (WIDTH x HEIGHT intact), cloud() leaves it out (so no neighbourhood or
+// estimate sees it), and set_normals() gives it NaN normals. size() counts every row;
+// valid_count() and row_of_point() map the points of cloud() to rows. In every other format a
+// NaN coordinate is an error naming the vertex, and every row is a valid point.
 //
 // Thread safety: read_point_file and write_point_file may run concurrently on different paths.
 // A PointFile is a plain value: const members may be called from several threads at once,
 // set_normals needs exclusive access.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +36,34 @@ enum class PointFileFormat {
   xyz,   // .xyz: "x y z" or "x y z nx ny nz" per line
   xyzn,  // .xyzn: "x y z nx ny nz" per line
   pwn,   // .pwn: "x y z nx ny nz" per line
+  pcd,   // .pcd: PCL's Point Cloud Data, v0.7 (read and write) or v0.6 (read)
+};
+
+// The body encoding named on a PCD header's DATA line.
+enum class PcdData { ascii, binary, binary_compressed };
+
+// The encoding's name as a PCD header spells it ("ascii", "binary", "binary_compressed").
+const char* to_string(PcdData data);
+
+// One field of a PCD header: a FIELDS name with its SIZE, TYPE and COUNT.
+struct PcdField {
+  std::string name;       // "_" is PCL's padding field: bytes that belong to no value
+  char type = 'F';        // 'I' signed integer, 'U' unsigned integer, 'F' floating point
+  unsigned size = 4;      // bytes per value: 1, 2, 4 or 8 for I and U; 4 or 8 for F
+  std::size_t count = 1;  // values per point, at least 1
+};
+
+// A PCD header, in the order PCL writes it.
+struct PcdHeader {
+  std::vector<std::string> comments;  // the '#' lines, each whole and unchanged, in file order
+  std::string version = "0.7";        // VERSION as read ("0.7", ".7", "0.6"); pnf writes 0.7
+  std::vector<PcdField> fields;       // in file order
+  std::size_t width = 0;              // points per row (organised) or all points (height 1)
+  std::size_t height = 1;             // rows; 1 for an unorganised cloud
+  // VIEWPOINT: the sensor's origin tx ty tz (model units) and orientation qw qx qy qz.
+  std::array<double, 7> viewpoint = {0, 0, 0, 1, 0, 0, 0};
+  std::size_t points = 0;          // POINTS = width * height
+  PcdData data = PcdData::binary;  // DATA
 };
 
 // The body encoding named on a PLY header's format line.
@@ -36,7 +74,8 @@ const char* to_string(PlyEncoding encoding);
 
 // A PLY scalar type. Both spellings of the header ("char"/"int8", "float"/"float32", ...) map
 // to the same value; PlyProperty keeps the spelling the file used.
-enum class PlyScalar { int8, uint8, int16, uint16, int32, uint32, float32, float64 };
+// int64 and uint64 exist only for PCD fields (SIZE 8, TYPE I or U); PLY has no such type.
+enum class PlyScalar { int8, uint8, int16, uint16, int32, uint32, float32, float64, int64, uint64 };
 
 // One property line of a PLY header.
 struct PlyProperty {
@@ -77,11 +116,17 @@ struct WriteOptions {
   // PLY only: write the ascii encoding instead of binary_little_endian. Ignored for text
   // formats, which are always text.
   bool ascii = false;
+  // PCD only: the DATA encoding to write. Unset: the source's DATA for a file read from PCD
+  // (a binary_compressed input stays binary_compressed), binary for anything else; with
+  // `ascii` set and this unset, ascii.
+  std::optional<PcdData> pcd_data;
 };
 
 // The contents of one point file. Always holds a "vertex" element with scalar x, y, z
-// properties, and every vertex has finite coordinates and finite, non-zero normals (checked on
-// read and by set_normals).
+// properties, and every valid point has finite coordinates and finite, non-zero normals
+// (checked on read and by set_normals). For a PCD file the vertex element has one property per
+// value of each field (a field of COUNT k > 1 gives name_0 ... name_{k-1}), and only rows with a
+// NaN coordinate are invalid (see the top of this header).
 class PointFile {
  public:
   // An empty cloud: zero vertices.
@@ -99,22 +144,34 @@ class PointFile {
 
   // The format the file was read from; ply for a PointFile built from a PointCloud.
   PointFileFormat source_format() const;
-  // Elements, properties, types and counts, e.g. for `pnf info`.
+  // Elements, properties, types and counts, e.g. for `pnf info`. For a PCD file, the
+  // equivalent PLY header: one "vertex" element of POINTS rows.
   const PlyHeader& header() const;
-  // Number of vertices N.
+  // The PCD header of a file read from PCD (with normal fields added by set_normals), else
+  // nullptr.
+  const PcdHeader* pcd_header() const;
+  // Number of rows N (vertices; for PCD every point, valid or not).
   std::size_t size() const;
+  // Number of valid points M <= N: the size of cloud(). M == N except for PCD rows with a NaN
+  // coordinate.
+  std::size_t valid_count() const;
+  // The row (0 .. N-1) of valid point i (0 .. M-1), in ascending order; i itself when every row
+  // is valid. Throws invalid_argument when i >= M.
+  std::size_t row_of_point(std::size_t i) const;
 
-  // Positions (N), normals (N, or empty without normals) and radii (N, or empty without a
-  // scalar "radius" vertex property), converted exactly to double.
+  // Positions (M), normals (M, or empty without normals) and radii (M, or empty without a
+  // scalar "radius" vertex property) of the valid points in row order, converted exactly to
+  // double (64-bit integer PCD fields are rounded to nearest).
   PointCloud cloud() const;
   // True when the vertex element has nx ny nz (or PCL's normal_x normal_y normal_z).
   bool has_normals() const;
   // Replaces the normals, stored in their declared type (float stays float, rounded to
   // nearest). When the file had none, appends nx ny nz properties to the vertex element:
-  // float for a PLY file, double for a text file (whose values are all double). `normals` is
-  // N long, each finite and non-zero; it need not be unit length. Throws invalid_argument
-  // naming the index of a bad normal or the wrong size, and invalid_input when the file's
-  // normal properties have an integer type.
+  // float for a PLY file, double for a text file (whose values are all double); for PCD, float
+  // fields normal_x normal_y normal_z after the last field. `normals` is M long (one per valid
+  // point, in the order of cloud()), each finite and non-zero; it need not be unit length.
+  // Invalid rows get NaN normals. Throws invalid_argument naming the index of a bad normal or
+  // the wrong size, and invalid_input when the file's normal properties have an integer type.
   void set_normals(const std::vector<Vec3>& normals);
 
   // The values of element `element` (index into header().elements) in the PLY
@@ -132,20 +189,32 @@ class PointFile {
   friend void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options);
 };
 
-// Reads the point file at `path`; the format follows the extension (.ply, .xyz, .xyzn, .pwn,
-// case-insensitive). Throws invalid_argument for another extension, io when the file cannot be
-// opened or read, and invalid_input for malformed contents, with one line that names the file,
-// the element and the line (ascii) or row index (binary), and what is wrong.
+// Reads the point file at `path`; the format follows the extension (.ply, .pcd, .xyz, .xyzn,
+// .pwn, case-insensitive). PCD: DATA ascii, binary (little-endian, as PCL writes it on every
+// common host) or binary_compressed (LZF), any fields in any order. Throws invalid_argument
+// for another extension, io when the file cannot be opened or read, and invalid_input for
+// malformed contents, with one line that names the file, the element (PLY) or field (PCD), the
+// line (ascii) or row index (binary) or point (PCD), and what is wrong.
 PointFile read_point_file(const std::string& path);
 
 // Writes `file` to `path` in the format its extension names. A PLY file keeps every element,
 // property, comment and value of `file`; a file that came from PLY and is written in its
 // original encoding (ascii, or binary_little_endian) reproduces every value it did not change
-// byte for byte. Text formats carry x y z [nx ny nz], 17 significant digits; .xyzn and .pwn
-// need normals. The data goes to a temporary file in the target's folder that is renamed over
-// `path`, so `path` is either replaced whole or left alone; on failure no temporary file
-// remains. Throws invalid_argument for an unknown extension or a text format that needs normals
-// the file lacks, and io (naming the path and the OS reason) when writing fails.
+// byte for byte. A PCD file keeps every field (type, size, count, order), WIDTH, HEIGHT,
+// VIEWPOINT and comments, and the bits of every value; in DATA ascii each value is written as
+// the shortest text that reads back to it, except that PCL's convention is followed for an F 4
+// field named rgb (written as TYPE U, its bits as an unsigned integer: packed colours are often
+// NaN as floats) and padding fields "_" are left out; binary_compressed leaves the padding's bytes
+// out as PCL does (they read back as zero). A PLY or text file written as PCD becomes one
+// unorganised cloud of its vertices' scalar properties (nx ny nz named normal_x normal_y
+// normal_z); list properties cannot be written to PCD. A PCD file written as PLY keeps its rows,
+// invalid ones included; a 64-bit integer field cannot be written to PLY. Text formats carry
+// x y z [nx ny nz] of the valid points, 17 significant digits; .xyzn and .pwn need normals.
+// The data goes to a temporary file in the target's folder that is renamed over `path`, so
+// `path` is either replaced whole or left alone; on failure no temporary file remains. Throws
+// invalid_argument for an unknown extension, a text format that needs normals the file lacks,
+// a list to PCD or a 64-bit integer to PLY, and io (naming the path and the OS reason) when
+// writing fails.
 void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options = {});
 
 }  // namespace pnf

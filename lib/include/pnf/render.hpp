@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include "pnf/bounding_box.hpp"
 #include "pnf/point_cloud.hpp"
 
 namespace pnf {
@@ -24,12 +25,6 @@ enum class RenderMode {
   normals,  // its unit world-space normal n as the colour n * 0.5 + 0.5 (x red, y green, z blue)
   error,    // the angle between its normal and the reference normal of the same index, on a
             // viridis scale from 0 to error_max_degrees, with a colour bar at the right
-};
-
-// An axis-aligned box in model units; min <= max on each axis.
-struct BoundingBox {
-  Vec3 min{0, 0, 0};
-  Vec3 max{0, 0, 0};
 };
 
 // An 8-bit RGB image, rows from top to bottom, each row left to right: pixel (x, y) is at

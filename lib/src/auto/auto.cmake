@@ -1,4 +1,6 @@
-# Sources of pnf::estimate_data and pnf::choose_filter_params (`pnf filter --auto`). Included by
-# lib/CMakeLists.txt into the pnf target, which provides OpenMP, Eigen and the FLANN headers.
+# Sources of pnf::estimate_data (the measurements) and pnf::choose_filter_params (the rule of
+# `pnf filter --auto`). Included by lib/CMakeLists.txt into the pnf target, which provides OpenMP
+# and Eigen; neighbour searches go through host/spatial.
 list(APPEND PNF_AUTO_SOURCES
-  ${PROJECT_SOURCE_DIR}/lib/src/auto/auto_params.cpp)
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/estimate_data.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/choose_filter_params.cpp)

@@ -5,18 +5,9 @@
 #include <vector>
 
 #include "pnf/point_cloud.hpp"
+#include "spatial/csr_lists.hpp"
 
 namespace pnf::detail {
-
-// The k nearest other points of every point: row i is
-// indices[i * k, (i + 1) * k), nearest first, never containing i itself. N rows.
-struct NeighbourTable {
-  std::size_t point_count = 0;
-  int k = 0;
-  std::vector<int> indices;  // point_count * k point ids, each in [0, point_count)
-
-  const int* row(std::size_t point) const { return indices.data() + point * static_cast<std::size_t>(k); }
-};
 
 // Flips normals[i] where normals[i] · (viewpoint − positions[i]) < 0. Shapes: N and N.
 void orient_towards_viewpoint(const std::vector<Vec3>& positions, const Vec3& viewpoint, std::vector<Vec3>& normals);

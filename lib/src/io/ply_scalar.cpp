@@ -37,6 +37,8 @@ decltype(auto) visit_scalar(PlyScalar type, F&& f) {
     case PlyScalar::int32: return f(std::int32_t{});
     case PlyScalar::uint32: return f(std::uint32_t{});
     case PlyScalar::float32: return f(float{});
+    case PlyScalar::int64: return f(std::int64_t{});
+    case PlyScalar::uint64: return f(std::uint64_t{});
     case PlyScalar::float64: break;
   }
   return f(double{});
@@ -61,20 +63,37 @@ template <typename T>
 bool parse_integer(std::string_view token, unsigned char* bytes, std::string& why) {
   // from_chars takes no '+'; PLY writers rarely emit one, but it is a valid integer.
   if (token.size() > 1 && token[0] == '+' && token[1] != '-') token.remove_prefix(1);
-  std::int64_t value = 0;
   const char* end = token.data() + token.size();
-  const auto result = std::from_chars(token.data(), end, value);
-  if (result.ec == std::errc::invalid_argument || result.ptr != end) {
-    why = "not an integer";
-    return false;
+  if constexpr (sizeof(T) == 8) {
+    // 64-bit values (PCD only) are parsed in their own type: int64 cannot hold every uint64.
+    T value = 0;
+    const auto result = std::from_chars(token.data(), end, value);
+    const bool negative_unsigned = std::is_unsigned_v<T> && !token.empty() && token[0] == '-';
+    if (result.ec == std::errc::result_out_of_range || negative_unsigned) {
+      why = "out of range";
+      return false;
+    }
+    if (result.ec != std::errc() || result.ptr != end) {
+      why = "not an integer";
+      return false;
+    }
+    store(value, bytes);
+    return true;
+  } else {
+    std::int64_t value = 0;
+    const auto result = std::from_chars(token.data(), end, value);
+    if (result.ec == std::errc::invalid_argument || result.ptr != end) {
+      why = "not an integer";
+      return false;
+    }
+    if (result.ec == std::errc::result_out_of_range || value < std::numeric_limits<T>::min() ||
+        value > static_cast<std::int64_t>(std::numeric_limits<T>::max())) {
+      why = "out of range";
+      return false;
+    }
+    store(static_cast<T>(value), bytes);
+    return true;
   }
-  if (result.ec == std::errc::result_out_of_range || value < std::numeric_limits<T>::min() ||
-      value > static_cast<std::int64_t>(std::numeric_limits<T>::max())) {
-    why = "out of range";
-    return false;
-  }
-  store(static_cast<T>(value), bytes);
-  return true;
 }
 
 template <typename T>
@@ -113,6 +132,9 @@ bool parse_scalar_name(std::string_view name, PlyScalar& type) {
 }
 
 const char* scalar_name(PlyScalar type) {
+  // Not in kScalarNames: PLY headers must not accept them.
+  if (type == PlyScalar::int64) return "int64";
+  if (type == PlyScalar::uint64) return "uint64";
   for (const ScalarName& entry : kScalarNames) {
     if (entry.type == type) return entry.name;
   }
@@ -161,7 +183,9 @@ void append_token(PlyScalar type, const unsigned char* bytes, std::string& out) 
   const auto result = visit_scalar(type, [&](auto value) {
     using T = decltype(value);
     const T loaded = load<T>(bytes);
-    if constexpr (std::is_integral_v<T>) {
+    if constexpr (std::is_same_v<T, std::uint64_t>) {
+      return std::to_chars(buffer, buffer + sizeof buffer, loaded);
+    } else if constexpr (std::is_integral_v<T>) {
       return std::to_chars(buffer, buffer + sizeof buffer, static_cast<std::int64_t>(loaded));
     } else {
       return std::to_chars(buffer, buffer + sizeof buffer, loaded);

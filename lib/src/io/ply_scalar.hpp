@@ -17,7 +17,8 @@ std::size_t scalar_size(PlyScalar type);
 // Parses a header type name ("uchar", "uint8", "float32", ...). Returns false when unknown.
 bool parse_scalar_name(std::string_view name, PlyScalar& type);
 
-// The short PLY name of `type` ("char", "uchar", ..., "float", "double").
+// The short PLY name of `type` ("char", "uchar", ..., "float", "double"; "int64", "uint64" for
+// the PCD-only types, which parse_scalar_name does not accept).
 const char* scalar_name(PlyScalar type);
 
 bool is_integer(PlyScalar type);
@@ -25,8 +26,8 @@ bool is_integer(PlyScalar type);
 // Reverses the byte order of one value of `size` bytes in place.
 void reverse_bytes(unsigned char* value, std::size_t size);
 
-// The value at `bytes` (little-endian, of `type`) converted to double, exactly: every PLY
-// scalar type fits in a double.
+// The value at `bytes` (little-endian, of `type`) converted to double, exactly for every PLY
+// scalar type; the 64-bit integers of PCD are rounded to nearest beyond 2^53.
 double load_as_double(PlyScalar type, const unsigned char* bytes);
 
 // Stores `value` at `bytes` as a little-endian float32 or float64 (rounded to nearest for

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string_view>
 
 #include "atomic_file.hpp"
+#include "pcd_header.hpp"
+#include "pcd_reader.hpp"
+#include "pcd_writer.hpp"
 #include "ply_reader.hpp"
 #include "ply_scalar.hpp"
 #include "ply_writer.hpp"
@@ -28,8 +32,9 @@ PointFileFormat format_from_extension(const std::string& path) {
   if (extension == ".xyz") return PointFileFormat::xyz;
   if (extension == ".xyzn") return PointFileFormat::xyzn;
   if (extension == ".pwn") return PointFileFormat::pwn;
+  if (extension == ".pcd") return PointFileFormat::pcd;
   throw Error(ErrorCode::invalid_argument,
-              path + ": unknown point file extension '" + extension + "' (expected .ply, .xyz, .xyzn or .pwn)");
+              path + ": unknown point file extension '" + extension + "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
 }
 
 PlyProperty real_property(const char* name, PlyScalar type) {
@@ -40,8 +45,10 @@ PlyProperty real_property(const char* name, PlyScalar type) {
   return property;
 }
 
-// Appends nx ny nz of impl.added_normal_type to the vertex element, with zero values.
+// Appends nx ny nz of impl.added_normal_type to the vertex element, with zero values; for a
+// PCD file, float fields normal_x normal_y normal_z.
 void add_normal_properties(PointFile::Impl& impl) {
+  const bool pcd = impl.source_format == PointFileFormat::pcd;
   PlyHeader& header = impl.header;
   PlyElement& vertex = header.elements[impl.vertex_element];
   const std::size_t old_properties = vertex.properties.size();
@@ -55,9 +62,15 @@ void add_normal_properties(PointFile::Impl& impl) {
     if (comment.position > insert_at) comment.position += 3;
   }
   const PlyScalar type = impl.added_normal_type;
-  vertex.properties.push_back(real_property("nx", type));
-  vertex.properties.push_back(real_property("ny", type));
-  vertex.properties.push_back(real_property("nz", type));
+  const char* const names[2][3] = {{"nx", "ny", "nz"}, {"normal_x", "normal_y", "normal_z"}};
+  for (const char* name : names[pcd ? 1 : 0]) {
+    vertex.properties.push_back(real_property(name, type));
+    if (!pcd) continue;
+    PcdField field;
+    field.name = name;
+    pcd_type_of(type, field.type, field.size);
+    impl.pcd.fields.push_back(std::move(field));
+  }
   impl.fields.nx = old_properties;
   impl.fields.ny = old_properties + 1;
   impl.fields.nz = old_properties + 2;
@@ -132,6 +145,8 @@ void rewrite_vertex_tokens(PointFile::Impl& impl) {
   }
   impl.ascii_rows[impl.vertex_element].swap(rewritten);
 }
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void check_normal(const Vec3& normal, std::size_t index, const char* where) {
   const bool finite = std::isfinite(normal[0]) && std::isfinite(normal[1]) && std::isfinite(normal[2]);
@@ -216,6 +231,20 @@ const PlyHeader& PointFile::header() const { return impl_->header; }
 
 std::size_t PointFile::size() const { return impl_->header.elements[impl_->vertex_element].count; }
 
+const PcdHeader* PointFile::pcd_header() const {
+  return impl_->source_format == PointFileFormat::pcd ? &impl_->pcd : nullptr;
+}
+
+std::size_t PointFile::valid_count() const { return impl_->has_invalid_rows ? impl_->valid_rows.size() : size(); }
+
+std::size_t PointFile::row_of_point(std::size_t i) const {
+  if (i >= valid_count()) {
+    throw Error(ErrorCode::invalid_argument,
+                "row_of_point: point " + std::to_string(i) + " of " + std::to_string(valid_count()) + " valid points");
+  }
+  return impl_->has_invalid_rows ? impl_->valid_rows[i] : i;
+}
+
 bool PointFile::has_normals() const { return impl_->fields.has_normals(); }
 
 PointCloud PointFile::cloud() const {
@@ -223,20 +252,25 @@ PointCloud PointFile::cloud() const {
   const PlyElement& vertex = impl.header.elements[impl.vertex_element];
   const std::vector<PlyProperty>& properties = vertex.properties;
   const VertexFields& fields = impl.fields;
+  const std::size_t points = valid_count();
   PointCloud cloud;
-  cloud.positions.resize(vertex.count);
-  if (fields.has_normals()) cloud.normals.resize(vertex.count);
-  if (fields.radius != VertexFields::kNone) cloud.radii.resize(vertex.count);
+  cloud.positions.resize(points);
+  if (fields.has_normals()) cloud.normals.resize(points);
+  if (fields.radius != VertexFields::kNone) cloud.radii.resize(points);
   RowLayout layout(properties);
   const unsigned char* row = impl.values[impl.vertex_element].data();
   const auto load = [&](std::size_t property) {
     return load_as_double(properties[property].type, row + layout.offset(property));
   };
-  for (std::size_t i = 0; i < vertex.count; ++i) {
+  std::size_t i = 0;  // the next valid point
+  for (std::size_t r = 0; r < vertex.count && i < points; ++r) {
     const std::size_t row_size = layout.measure(row);
-    cloud.positions[i] = {load(fields.x), load(fields.y), load(fields.z)};
-    if (fields.has_normals()) cloud.normals[i] = {load(fields.nx), load(fields.ny), load(fields.nz)};
-    if (fields.radius != VertexFields::kNone) cloud.radii[i] = load(fields.radius);
+    if (!impl.has_invalid_rows || impl.valid_rows[i] == r) {
+      cloud.positions[i] = {load(fields.x), load(fields.y), load(fields.z)};
+      if (fields.has_normals()) cloud.normals[i] = {load(fields.nx), load(fields.ny), load(fields.nz)};
+      if (fields.radius != VertexFields::kNone) cloud.radii[i] = load(fields.radius);
+      ++i;
+    }
     row += row_size;
   }
   return cloud;
@@ -246,9 +280,11 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   constexpr const char* kWhere = "set_normals";
   Impl& impl = *impl_;
   const PlyElement& vertex = impl.header.elements[impl.vertex_element];
-  if (normals.size() != vertex.count) {
+  const std::size_t points = valid_count();
+  if (normals.size() != points) {
     throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(normals.size()) +
-                                                 " normals for " + std::to_string(vertex.count) + " vertices");
+                                                 " normals for " + std::to_string(points) +
+                                                 (impl.has_invalid_rows ? " valid points" : " vertices"));
   }
   for (std::size_t i = 0; i < normals.size(); ++i) check_normal(normals[i], i, kWhere);
   if (impl.fields.has_normals()) {
@@ -267,10 +303,14 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   const std::size_t fields[3] = {impl.fields.nx, impl.fields.ny, impl.fields.nz};
   RowLayout layout(properties);
   unsigned char* row = impl.values[impl.vertex_element].data();
-  for (std::size_t i = 0; i < vertex.count; ++i) {
+  std::size_t i = 0;  // the next valid point
+  for (std::size_t r = 0; r < vertex.count; ++r) {
     const std::size_t row_size = layout.measure(row);
+    const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
+    // An invalid point (a PCD row with a NaN coordinate) has no normal: NaN, as PCL gives it.
+    const Vec3 normal = valid ? normals[i++] : Vec3{kNaN, kNaN, kNaN};
     for (int axis = 0; axis < 3; ++axis) {
-      store_real(properties[fields[axis]].type, normals[i][axis], row + layout.offset(fields[axis]));
+      store_real(properties[fields[axis]].type, normal[axis], row + layout.offset(fields[axis]));
     }
     row += row_size;
   }
@@ -288,6 +328,7 @@ const std::vector<unsigned char>& PointFile::element_values(std::size_t element)
 PointFile read_point_file(const std::string& path) {
   const PointFileFormat format = format_from_extension(path);
   if (format == PointFileFormat::ply) return PointFile(read_ply(path));
+  if (format == PointFileFormat::pcd) return PointFile(read_pcd(path));
   return PointFile(read_text_points(path, format));
 }
 
@@ -298,9 +339,21 @@ void write_point_file(const std::string& path, const PointFile& file, const Writ
     throw Error(ErrorCode::invalid_argument,
                 path + ": this format stores x y z nx ny nz, and the points have no normals");
   }
+  const PointFile::Impl& impl = *file.impl_;
+  if (format == PointFileFormat::ply) {
+    for (const PlyProperty& property : impl.header.elements[impl.vertex_element].properties) {
+      if (property.type == PlyScalar::int64 || property.type == PlyScalar::uint64) {
+        throw Error(ErrorCode::invalid_argument, path + ": vertex property '" + property.name + "' is " +
+                                                     property.type_name + ", and PLY has no 64-bit integer type");
+      }
+    }
+  }
   AtomicFile out(path);
   if (format == PointFileFormat::ply) {
-    write_ply(*file.impl_, options.ascii, out);
+    write_ply(impl, options.ascii, out);
+  } else if (format == PointFileFormat::pcd) {
+    const PcdData source_data = impl.source_format == PointFileFormat::pcd ? impl.pcd.data : PcdData::binary;
+    write_pcd(impl, options.pcd_data.value_or(options.ascii ? PcdData::ascii : source_data), path, out);
   } else {
     write_text_points(file.cloud(), out);
   }

@@ -33,6 +33,13 @@ struct PointFile::Impl {
   // The type set_normals gives normals it adds: float for PLY files, as is usual there; double
   // where every other value is double (text files, files built from a PointCloud).
   PlyScalar added_normal_type = PlyScalar::float32;
+  // For a file read from PCD: its header, whose fields give the vertex properties in order
+  // (one per value), kept in step with them by set_normals.
+  PcdHeader pcd;
+  // True when some rows are invalid points (PCD rows with a NaN coordinate); then valid_rows
+  // lists the valid ones in ascending order. False: every row is valid, valid_rows is empty.
+  bool has_invalid_rows = false;
+  std::vector<std::size_t> valid_rows;
 };
 
 // Finds the "vertex" element and the properties pnf uses, and stores them in `impl`. Throws
@@ -43,6 +50,10 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path);
 // Checks that every position and normal is finite and every normal non-zero. `row_lines`
 // gives, for an ascii source, the file line of each vertex row (empty otherwise) so that the
 // message can name it. Throws invalid_input naming `path`, the vertex index and the line.
-void check_vertices(const PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines);
+// With `nan_marks_invalid` (PCD), a row with a NaN coordinate is an invalid point instead: it
+// is not checked further, and impl.has_invalid_rows / impl.valid_rows record it; messages
+// then say "point" rather than "vertex".
+void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
+                    bool nan_marks_invalid = false);
 
 }  // namespace pnf

@@ -77,7 +77,8 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
   impl.fields = fields;
 }
 
-void check_vertices(const PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines) {
+void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
+                    bool nan_marks_invalid) {
   const PlyElement& element = impl.header.elements[impl.vertex_element];
   const VertexFields& fields = impl.fields;
   const unsigned char* row = impl.values[impl.vertex_element].data();
@@ -85,15 +86,32 @@ void check_vertices(const PointFile::Impl& impl, const std::string& path, const 
   const auto fail = [&](std::size_t vertex, const std::string& what) {
     std::string where = path + ": ";
     if (vertex < row_lines.size()) where += "line " + std::to_string(row_lines[vertex]) + ", ";
-    throw Error(ErrorCode::invalid_input, where + "vertex " + std::to_string(vertex) + ": " + what);
+    throw Error(ErrorCode::invalid_input,
+                where + (nan_marks_invalid ? "point " : "vertex ") + std::to_string(vertex) + ": " + what);
   };
   const auto load = [&](std::size_t property) {
     return load_as_double(element.properties[property].type, row + layout.offset(property));
   };
   const std::size_t position_fields[3] = {fields.x, fields.y, fields.z};
   const std::size_t normal_fields[3] = {fields.nx, fields.ny, fields.nz};
+  std::vector<std::size_t> valid_rows;
+  impl.has_invalid_rows = false;
   for (std::size_t vertex = 0; vertex < element.count; ++vertex) {
     const std::size_t row_size = layout.measure(row);
+    if (nan_marks_invalid) {
+      const bool invalid = std::isnan(load(fields.x)) || std::isnan(load(fields.y)) || std::isnan(load(fields.z));
+      if (invalid && !impl.has_invalid_rows) {
+        // The rows before the first invalid one were all valid.
+        impl.has_invalid_rows = true;
+        valid_rows.reserve(element.count);
+        for (std::size_t r = 0; r < vertex; ++r) valid_rows.push_back(r);
+      }
+      if (invalid) {
+        row += row_size;
+        continue;
+      }
+      if (impl.has_invalid_rows) valid_rows.push_back(vertex);
+    }
     for (const std::size_t field : position_fields) {
       const double value = load(field);
       if (!std::isfinite(value)) {
@@ -115,6 +133,7 @@ void check_vertices(const PointFile::Impl& impl, const std::string& path, const 
     }
     row += row_size;
   }
+  impl.valid_rows.swap(valid_rows);
 }
 
 }  // namespace pnf

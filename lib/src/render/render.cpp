@@ -23,6 +23,7 @@
 
 #include "cloud_checks.hpp"
 #include "colour_bar.hpp"
+#include "geometry.hpp"
 #include "pnf/error.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/render.hpp"
@@ -30,7 +31,12 @@
 namespace pnf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::angle_degrees;
+using geometry::cross;
+using geometry::dot;
+using geometry::kPi;
+
+double length(const Vec3& v) { return geometry::norm(v); }
 // Empty space around the framed box, as a fraction of the drawing area's size on each side: room
 // for disks that reach past the box and for the eye.
 constexpr double kFrameMargin = 0.05;
@@ -49,30 +55,11 @@ constexpr int kBandRows = 8;
 constexpr double kFallbackRadiusFraction = 0.01;
 constexpr unsigned char kBackground = 255;  // white
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
 Vec3 normalized(const Vec3& v) {
   const double l = length(v);
   return {v[0] / l, v[1] / l, v[2] / l};
 }
 
-// Angle between two non-zero directions in degrees; atan2 keeps precision near 0 and 180.
-double angle_degrees(const Vec3& a, const Vec3& b) { return std::atan2(length(cross(a, b)), dot(a, b)) * 180 / kPi; }
-
-BoundingBox bounds_of(const std::vector<Vec3>& positions) {
-  BoundingBox box;
-  if (positions.empty()) return box;
-  box.min = box.max = positions[0];
-  for (const Vec3& p : positions)
-    for (int k = 0; k < 3; ++k) {
-      box.min[k] = std::min(box.min[k], p[k]);
-      box.max[k] = std::max(box.max[k], p[k]);
-    }
-  return box;
-}
 
 // World to pixels: x = cx + (p.right - u_mid) * scale, y = cy - (p.up - v_mid) * scale (rows go
 // down), depth = p.toward * scale (larger is nearer).
@@ -160,7 +147,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
 
   // Surfel radii in model units.
-  const BoundingBox cloud_box = bounds_of(cloud.positions);
+  const BoundingBox cloud_box = bounding_box(cloud.positions);
   double base_radius = 0;
   if (!cloud.has_radii() && n > 0) {
     base_radius = estimate_mean_radius(cloud.positions);

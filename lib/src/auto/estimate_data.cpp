@@ -1,28 +1,29 @@
-#include "pnf/auto_params.hpp"
-
-// Only the two FLANN headers needed: the whole of flann/flann.hpp pulls in every index type.
-#include <flann/algorithms/dist.h>
-#include <flann/algorithms/kdtree_single_index.h>
-
+// pnf::estimate_data: the measurements behind `pnf filter --auto` (the rule that turns them into
+// parameters is choose_filter_params.cpp). Local quadric fits at a few neighbourhood sizes on a
+// sample of the points give the area spacing, the position noise, the share of samples at an
+// edge, the curved share and the input normals' noise.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <cstdint>
 #include <limits>
-#include <sstream>
+#include <utility>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-#include "bounding_box.hpp"
+#include "cloud_checks.hpp"
+#include "geometry.hpp"
+#include "mean_radius_internal.hpp"
+#include "pnf/auto_params.hpp"
+#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
+#include "spatial/spatial_index.hpp"
+#include "spatial/spatial_order.hpp"
 
 namespace pnf {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using geometry::angle_degrees;
+using geometry::kPi;
 
 // Neighbourhood sizes tried, smallest first. Small ones see the fewest sharp edges and the least
 // curvature beyond second order; large ones are needed where the noise is thick against the
@@ -74,103 +75,20 @@ constexpr int kMinFitPoints = 12;
 // The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
 const double kRayleighRmsPerMedian = std::sqrt(2.0) / std::sqrt(2.0 * std::log(2.0));
 
-// The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in spacings,
-// p = position noise / spacing. Four kinds of data, by the estimate's feature share (edges or not)
-// and curved share (a plane or polyhedron, or curved surfaces):
-//
-// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
-// nothing to keep sharp, so the feature term is off. Smooth shapes measured 0-4%, shapes with
-// edges 15-50%.
-constexpr double kSmoothShare = 0.08;
-// A curved share (DataEstimate::curved_share) from this up is a curved shape: flat shapes
-// measured 0-8%, the cylinder 71%, fandisk 22-84%, spheres and tori 100%.
-constexpr double kCurvedShare = 0.15;
-// sigma_g must pass the spread of the distances to the neighbours' planes on one surface (about
-// sqrt 2 times the noise, as both ends are noisy) and no more, so that planes across a sharp
-// edge are still refused: the grid optima (0.2 spacings clean, 0.6-1.1 at 0.25-0.5, 3 at 2)
-// lie on this line.
-constexpr double kSigmaG0 = 0.2;
-constexpr double kSigmaGPerNoise = 1.5;
-// Flat faces between edges: a wide sigma_f and 8 passes at every noise level (each pass sharpens
-// the edges further and nothing bends away from the neighbours' planes); cube and wedges optima.
-constexpr double kFlatEdgesSigmaF = 6.5;
-constexpr int kFlatEdgesPasses = 8;
-// Curved faces between edges: sigma_f grows with the noise, since more neighbours average more of
-// it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
-// distance (fandisk and cylinder optima: 1.6 spacings clean, 3-4 at p = 0.25-0.5, 12 at 2) ...
-constexpr double kCurvedEdgesSigmaF0 = 1.6;
-constexpr double kCurvedEdgesSigmaFPerNoise = 5.0;
-constexpr double kCurvedEdgesSigmaFMax = 12.0;
-// ... and the passes fall with the noise: later passes drift on curved patches and eat small
-// features (fandisk: 8 clean, 2 at p = 0.4; the cylinder: 4 at p = 0.26). passes = this / p,
-// between the bounds below.
-constexpr double kCurvedEdgesPassesTimesNoise = 1.1;
-constexpr int kCurvedEdgesMinPasses = 2;
-constexpr int kCurvedEdgesMaxPasses = 8;
-// Smooth shapes: the feature term off ("off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1
-// to double precision for any neighbour within 2 sigma_f <= 24 spacings) and a wide sigma_f.
-constexpr double kSigmaGOff = 1e6;
-constexpr double kSmoothSigmaF = 8.0;
-// A smooth flat shape (a plane) gains from every pass.
-constexpr int kSmoothFlatPasses = 8;
-// A smooth curved one loses a little with each pass (the averaged normals lean towards the
-// denser side of an irregular sample), so the passes follow the angular noise of the input:
-// none when the positions are clean and the normals already agree with the fitted surface to
-// within this (clean spheres: the input was the best of the grid; at 0.1 spacings of noise one
-// pass still gained 15%) ...
-constexpr double kNoFilterNormalNoiseDeg = 0.6;
-constexpr double kNoFilterNoise = 0.05;
-// ... one pass up to this, then two (spheres and tori, PCA-16 against PCA-64 input normals).
-constexpr double kOnePassNormalNoiseDeg = 3.0;
-constexpr int kSmoothCurvedPasses = 2;
-// Clean positions, but input normals whose errors are alike over a few spacings (normal error
-// correlation from this up; already smoothed, as PCA over 64 neighbours): averaging them again
-// keeps their errors, while the feature term with sigma_g 0.2 spacings (kSigmaG0) re-derives the
-// normals from the positions. One pass, sigma_f between the neighbours' reach and the curvature's
-// (clean torus, PCA-64: 0.70 deg at 3.3 spacings against 0.83 at 1.6 and 0.89 at 6.6, input 1.10;
-// PCA-16 normals there, correlation 0.06, need plain averaging). Clean spheres and tori measured
-// 0.02-0.06 with PCA-16 normals, 0.18-0.34 with PCA-64.
-constexpr double kCoherentErrorCorrelation = 0.2;
-constexpr double kCoherentSigmaF = 3.3;
-// Past this noise (spacings) the feature term rejects more of the same surface than of the other
-// side of an edge, and the estimates can no longer see the edges: it is switched off and the
-// normals are so poor that averaging keeps paying (fandisk at 1.2% of its diagonal: 8.5-9
-// spacings with 10-16 passes all land within 0.01 degrees of each other).
-constexpr double kFeatureOffNoise = 3.0;
-constexpr double kTooNoisySigmaF = 8.5;
-constexpr int kTooNoisyPasses = 14;
-// Passes also end when the normals move less than this on average. Small: on flat shapes every
-// pass still gains a little (at 0.1 degrees the plane and cube stopped at 3-5 of their 8 passes
-// and lost 10-25%).
-constexpr double kStopChangeDeg = 0.01;
-
-using Tree = flann::KDTreeSingleIndex<flann::L2<double>>;
-
-using detail::bounding_box;
-
-void check_cloud(const PointCloud& cloud) {
-  constexpr std::size_t kMinPoints = 16;
-  if (cloud.size() < kMinPoints) {
-    throw Error(ErrorCode::invalid_input, "estimate_data: need at least " + std::to_string(kMinPoints) +
-                                              " points, got " + std::to_string(cloud.size()));
-  }
-  if (cloud.has_normals() && cloud.normals.size() != cloud.size()) {
-    throw Error(ErrorCode::invalid_input, "estimate_data: " + std::to_string(cloud.normals.size()) + " normals for " +
-                                              std::to_string(cloud.size()) + " points");
-  }
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Vec3& p = cloud.positions[i];
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      throw Error(ErrorCode::invalid_input,
-                  "estimate_data: vertex " + std::to_string(i) + " has a non-finite coordinate");
-    }
-  }
+// What estimate_data needs of a cloud: enough points for the smallest fit; normals optional and
+// not checked (a bad input normal only leaves its sample out of the angular noise).
+detail::CloudRequirements estimate_requirements() {
+  detail::CloudRequirements requirements;
+  requirements.caller = "estimate_data";
+  requirements.min_points = 16;
+  requirements.checks_normals = false;
+  return requirements;
 }
 
 // One sample's fit at one scale.
 struct SampleFit {
   bool ok = false;
-  double spacing = 0;     // sqrt(pi rho^2 / count in the cylinder)
+  double area_spacing = 0;  // sqrt(pi rho^2 / count in the cylinder)
   double residual = 0;    // RMS distance to the quadric, corrected for the 6 fitted coefficients
   double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
   double radius = 0;      // rho
@@ -195,7 +113,7 @@ double median(std::vector<double> values) {
 // by curvature (the even terms are orthogonal to the odd ones). With normals, also compares the
 // input normals with the quadric's: at the sample (angle_deg) and, for the correlation of the
 // errors, at the points near it.
-SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud, std::size_t self,
+SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
                      const std::size_t* ids, const double* squared_distances, int count) {
   SampleFit fit;
   const Eigen::Vector3d origin(centred[self * 3], centred[self * 3 + 1], centred[self * 3 + 2]);
@@ -247,7 +165,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
   fit.ok = std::isfinite(rss);
   fit.radius = rho;
   fit.residual = rho * std::sqrt(rss / double(fitted - 6));
-  fit.spacing = std::sqrt(kPi * rho * rho / double(fitted));
+  fit.area_spacing = std::sqrt(kPi * rho * rho / double(fitted));
   {
     // Hessian of the height field in model units: the fit is in units of rho.
     const double a = 2 * c(3) / rho, b = c(4) / rho, d = 2 * c(5) / rho;
@@ -260,7 +178,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
       return (normal - (c(1) + 2 * c(3) * u + c(4) * v) * t1 - (c(2) + c(4) * u + 2 * c(5) * v) * t2).normalized();
     };
     auto input_towards = [&](std::size_t id, const Eigen::Vector3d& side) -> Eigen::Vector3d {
-      const Vec3& n = cloud.normals[id];
+      const Vec3 n = cloud.normals.at(id);
       const Eigen::Vector3d input(n[0], n[1], n[2]);
       const double length = input.norm();
       if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
@@ -269,10 +187,9 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
     const Eigen::Vector3d surface = surface_at(0, 0);
     const Eigen::Vector3d input = input_towards(self, surface);
     if (input.squaredNorm() > 0) {
-      const double cosine = std::min(1.0, surface.dot(input));
-      fit.angle_deg = std::atan2(surface.cross(input).norm(), cosine) * 180.0 / kPi;
+      fit.angle_deg = angle_degrees({surface.x(), surface.y(), surface.z()}, {input.x(), input.y(), input.z()});
       const Eigen::Vector3d error = input - surface;
-      const double reach = kCorrelationReachSpacings * fit.spacing;
+      const double reach = kCorrelationReachSpacings * fit.area_spacing;
       for (int k = 0; k < count; ++k) {
         if (ids[k] == self) continue;
         const Eigen::Vector3d& o = offsets[std::size_t(k)];
@@ -289,34 +206,22 @@ SampleFit fit_sample(const std::vector<double>& centred, const PointCloud& cloud
   return fit;
 }
 
-std::string format(const char* pattern, double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, pattern, value);
-  return text;
-}
-
 }  // namespace
 
-DataEstimate estimate_data(const PointCloud& cloud) {
-  check_cloud(cloud);
+DataEstimate estimate_data(const CloudView& cloud) {
+  detail::check_cloud(cloud, estimate_requirements());
   const std::size_t count = cloud.size();
   // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
-  const detail::BoundingBox box = bounding_box(cloud.positions);
-  std::vector<double> centred(count * 3);
+  // The points stay in input order (the samples are spread over it), so the tree keeps its own
+  // copy in leaf order.
+  const Vec3 centre = bounding_box(cloud.positions).centre();
+  std::vector<double> centred_input(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
-    for (int axis = 0; axis < 3; ++axis) {
-      centred[i * 3 + axis] = cloud.positions[i][axis] - 0.5 * (box.low[axis] + box.high[axis]);
-    }
+    const Vec3 p = cloud.positions.at(i);
+    for (int axis = 0; axis < 3; ++axis) centred_input[i * 3 + axis] = p[axis] - centre[axis];
   }
-  const flann::Matrix<double> points(centred.data(), count, 3);
-  Tree tree(points, flann::KDTreeSingleIndexParams(10));
-  tree.buildIndex();
-  flann::SearchParams search;
-  search.checks = flann::FLANN_CHECKS_UNLIMITED;
-  search.eps = 0.0f;
-  search.sorted = false;
-  search.cores = 1;  // the samples are spread over threads below instead
-
+  const detail::SpatialIndex index(std::move(centred_input), detail::SpatialIndex::Layout::any_order);
+  const std::vector<double>& centred = index.positions();
   // Fits every sample at one scale, in parallel.
   auto fit_scale = [&](int scale) {
     const int neighbours = int(std::min<std::size_t>(std::size_t(scale), count - 1)) + 1;  // the sample too
@@ -331,10 +236,7 @@ DataEstimate estimate_data(const PointCloud& cloud) {
       for (long long s = 0; s < static_cast<long long>(samples); ++s) {
         // Evenly spread, deterministic: sample s is point floor(s N / samples).
         const std::size_t self = std::size_t(s) * count / samples;
-        flann::Matrix<double> query(centred.data() + self * 3, 1, 3);
-        flann::Matrix<std::size_t> id_matrix(ids.data(), 1, std::size_t(neighbours));
-        flann::Matrix<double> distance_matrix(distances.data(), 1, std::size_t(neighbours));
-        tree.knnSearch(query, id_matrix, distance_matrix, std::size_t(neighbours), search);
+        index.nearest_of_point(self, std::size_t(neighbours), ids.data(), distances.data());
         fits[std::size_t(s)] = fit_sample(centred, cloud, self, ids.data(), distances.data(), neighbours);
       }
     }
@@ -350,6 +252,14 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   // Noise and spacing at the smallest trusted scale.
   DataEstimate estimate;
   estimate.points = count;
+  // The one mean radius, sampled as the filter samples it (along the Morton order), so that the
+  // value is the filter's and `pnf info`'s bit for bit.
+  const MeanRadius radius = detail::resolve_mean_radius(0, cloud.radii, count, [&] {
+    const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
+    return detail::estimate_mean_radius(index, &curve);
+  });
+  estimate.mean_radius = radius.value;
+  estimate.radius_source = radius.source;
   const int scales = int(std::size(kScales));
   int chosen = -1;
   for (int i = 0; i < scales; ++i) {
@@ -357,7 +267,7 @@ DataEstimate estimate_data(const PointCloud& cloud) {
     if (fits.empty()) continue;
     chosen = i;
     estimate.samples = fits.size();
-    estimate.spacing = medians(fits, &SampleFit::spacing);
+    estimate.area_spacing = medians(fits, &SampleFit::area_spacing);
     estimate.position_noise = medians(fits, &SampleFit::residual);
     estimate.fit_neighbours = int(std::min<std::size_t>(std::size_t(kScales[i]), count - 1));
     estimate.fit_radius = medians(fits, &SampleFit::radius);
@@ -376,7 +286,7 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   // nearly independent of theirs (a correction in quadrature would need that independence; two
   // scales up it is not needed).
   const double edge_residual =
-      kEdgeResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.spacing);
+      kEdgeResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.area_spacing);
   auto share_at_edges = [&](const std::vector<SampleFit>& fits) {
     std::size_t edges = 0;
     for (const SampleFit& f : fits) edges += f.residual > edge_residual;
@@ -394,12 +304,12 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   // Curvature is judged only on fits that are clearly smooth (residual within the noise's own
   // spread): a fit grazing an edge reports a large curvature.
   const double smooth_residual =
-      kSmoothResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.spacing);
+      kSmoothResidualPerNoise * std::max(estimate.position_noise, kResidualFloorPerSpacing * estimate.area_spacing);
   std::size_t smooth = 0, curved = 0;
   for (const SampleFit& f : fits) {
     if (f.residual > smooth_residual) continue;
     ++smooth;
-    curved += f.curvature * estimate.spacing > kCurvedPerSpacing;
+    curved += f.curvature * estimate.area_spacing > kCurvedPerSpacing;
   }
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
   if (cloud.has_normals()) {
@@ -417,76 +327,5 @@ DataEstimate estimate_data(const PointCloud& cloud) {
   }
   return estimate;
 }
-
-AutoChoice choose_filter_params(const DataEstimate& estimate) {
-  if (!(estimate.spacing > 0) || !std::isfinite(estimate.spacing)) {
-    throw Error(ErrorCode::invalid_argument,
-                "choose_filter_params: spacing must be > 0 and finite, got " + format("%g", estimate.spacing));
-  }
-  const double noise = estimate.position_noise_spacings();
-  AutoChoice choice;
-  choice.estimate = estimate;
-  FilterParams& p = choice.params;
-  p.units = Units::radius;
-  p.mean_radius = estimate.spacing;
-  p.stop_change_deg = kStopChangeDeg;
-  const bool smooth = estimate.feature_share < kSmoothShare;
-  const bool curved = estimate.curved_share >= kCurvedShare;
-  const double normal_noise = estimate.normal_noise_deg;
-  std::string why = (smooth ? "smooth (features " : "edges (features ") + format("%.0f", 100 * estimate.feature_share) +
-                    "%), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
-                    "% curved)";
-  if (noise > kFeatureOffNoise) {
-    p.sigma_f = kTooNoisySigmaF;
-    p.sigma_g = kSigmaGOff;
-    p.iterations = kTooNoisyPasses;
-    why = "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
-  } else if (smooth) {
-    p.sigma_f = kSmoothSigmaF;
-    p.sigma_g = kSigmaGOff;
-    if (!curved) {
-      p.iterations = kSmoothFlatPasses;
-    } else if (normal_noise < 0) {  // no input normals to judge: the noisy case
-      p.iterations = kSmoothCurvedPasses;
-    } else if (noise < kNoFilterNoise && normal_noise < kNoFilterNormalNoiseDeg) {
-      p.iterations = 0;
-      why += ", normals already agree with the surface";
-    } else if (noise < kNoFilterNoise && estimate.normal_error_correlation >= kCoherentErrorCorrelation) {
-      p.sigma_f = kCoherentSigmaF;
-      p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
-      p.iterations = 1;
-      why += ", clean positions, normal errors alike over spacings (correlation " +
-             format("%.2f", estimate.normal_error_correlation) + ")";
-    } else {
-      p.iterations = normal_noise < kOnePassNormalNoiseDeg ? 1 : kSmoothCurvedPasses;
-    }
-  } else {
-    p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
-    if (!curved) {
-      p.sigma_f = kFlatEdgesSigmaF;
-      p.iterations = kFlatEdgesPasses;
-    } else {
-      p.sigma_f = std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerNoise * noise, kCurvedEdgesSigmaFMax);
-      const double passes = noise > 0 ? kCurvedEdgesPassesTimesNoise / noise : kCurvedEdgesMaxPasses;
-      p.iterations = int(std::clamp(std::floor(passes), double(kCurvedEdgesMinPasses), double(kCurvedEdgesMaxPasses)));
-    }
-  }
-  const bool feature_off = p.sigma_g >= kSigmaGOff;
-  std::ostringstream rule;
-  rule << "noise " << format("%.3g", noise) << " spacings";
-  if (estimate.normal_noise_deg >= 0) rule << ", normals " << format("%.3g", estimate.normal_noise_deg) << " deg";
-  rule << ", " << why << " -> ";
-  if (p.iterations == 0) {
-    rule << "no pass (the input normals are kept)";
-  } else {
-    rule << "sigma_f " << format("%.3g", p.sigma_f) << ", sigma_g "
-         << (feature_off ? std::string("off") : format("%.3g", p.sigma_g)) << " spacings, up to " << p.iterations
-         << " passes, stop below " << format("%g", p.stop_change_deg) << " deg";
-  }
-  choice.rule = rule.str();
-  return choice;
-}
-
-AutoChoice choose_filter_params(const PointCloud& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
 }  // namespace pnf

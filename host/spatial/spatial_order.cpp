@@ -1,7 +1,9 @@
-#include "spatial_order.hpp"
+#include "spatial/spatial_order.hpp"
 
 #include <algorithm>
 #include <numeric>
+
+#include "pnf/bounding_box.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -24,24 +26,18 @@ std::uint64_t spread_bits(std::uint64_t v) {
 
 std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions) {
   const std::size_t n = positions.count;
-  Vec3 lo = {0, 0, 0}, hi = {0, 0, 0};
-  if (n > 0) lo = hi = positions.at(0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 p = positions.at(i);
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  }
+  const BoundingBox box = bounding_box(positions);
+  const Vec3& lo = box.min;
   double extent = 0;
-  for (int k = 0; k < 3; ++k) extent = std::max(extent, hi[k] - lo[k]);
+  for (int k = 0; k < 3; ++k) extent = std::max(extent, box.max[k] - box.min[k]);
   const double to_cells = extent > 0 ? kCellsPerAxis / extent : 0;
 
   std::vector<std::uint64_t> keys(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t key = 0;
+    const Vec3 p = positions.at(i);
     for (int k = 0; k < 3; ++k) {
-      auto cell = static_cast<std::uint64_t>((positions.get(i, k) - lo[k]) * to_cells);
+      auto cell = static_cast<std::uint64_t>((p[k] - lo[k]) * to_cells);
       key |= spread_bits(cell) << k;
     }
     keys[i] = key;

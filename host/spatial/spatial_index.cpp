@@ -1,12 +1,19 @@
-#include "neighbour_lists.hpp"
+#include "spatial/spatial_index.hpp"
 
-#include <flann/flann.hpp>
+// The only FLANN include of pnf; only the two headers needed (flann/flann.hpp pulls in every
+// index type).
+#include <flann/algorithms/dist.h>
+#include <flann/algorithms/kdtree_single_index.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "pnf/error.hpp"
 
@@ -48,25 +55,43 @@ constexpr std::size_t kMaxBlockPoints = 256;
 // Widens the candidate search a hair beyond radius + half-diagonal against rounding.
 constexpr double kCandidateMargin = 1e-9;
 
+// FLANN's default leaf size. Measured against 4 to 32 on the filter's lists: within a few percent;
+// the block search below does most of the work.
+constexpr int kLeafMaxSize = 10;
+
+// Queries of nearest_table go to FLANN in blocks of this many points so that its size_t index and
+// distance buffers (16 bytes per neighbour) stay at a few tens of MB for any N; each block is large
+// enough to keep every thread busy.
+constexpr std::size_t kQueryBlock = std::size_t{1} << 16;
+
 }  // namespace
 
-struct NeighbourSearch::Tree {
+struct SpatialIndex::Tree {
   flann::Matrix<double> data;
   flann::KDTreeSingleIndex<Distance> index;
-  Tree(double* positions, std::size_t n)
-      : data(positions, n, 3), index(data, flann::KDTreeSingleIndexParams(/*leaf_max_size=*/10, /*reorder=*/true)) {
+  // reorder = false searches the caller's (curve-ordered) positions in place; true makes FLANN
+  // copy them in leaf order. The tree and every answer are the same either way (FLANN visits the
+  // same leaves in the same order); only the memory read differs.
+  Tree(double* positions, std::size_t n, bool reorder)
+      : data(positions, n, 3), index(data, flann::KDTreeSingleIndexParams(kLeafMaxSize, reorder)) {
     index.buildIndex();
   }
 };
 
-NeighbourSearch::NeighbourSearch(const double* positions, std::size_t point_count)
-    : point_count_(point_count), positions_(positions, positions + 3 * point_count) {
-  if (point_count_ > 0) tree_ = std::make_unique<Tree>(positions_.data(), point_count_);
+SpatialIndex::SpatialIndex(std::vector<double> centred_positions, Layout layout)
+    : positions_(std::move(centred_positions)), point_count_(positions_.size() / 3) {
+  if (positions_.size() != 3 * point_count_) {
+    throw Error(ErrorCode::invalid_input, "internal error: SpatialIndex needs N by 3 positions, got " +
+                                              std::to_string(positions_.size()) + " values");
+  }
+  if (point_count_ > 0) {
+    tree_ = std::make_unique<Tree>(positions_.data(), point_count_, layout == Layout::any_order);
+  }
 }
 
-NeighbourSearch::~NeighbourSearch() = default;
+SpatialIndex::~SpatialIndex() = default;
 
-std::vector<std::size_t> NeighbourSearch::block_starts(double radius) const {
+std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
   std::vector<std::size_t> starts;
   const double max_extent = kBlockExtentInRadii * radius;
   std::size_t i = 0;
@@ -100,7 +125,7 @@ std::vector<std::size_t> NeighbourSearch::block_starts(double radius) const {
 // `visit` gets the point, the block's candidate ids and coordinates, and a scratch array as long
 // as the candidates.
 template <typename Visit>
-void NeighbourSearch::for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const {
+void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const {
   const std::vector<std::size_t> starts = block_starts(radius);
   const std::size_t end = first + count;
   // Blocks that overlap [first, end).
@@ -155,11 +180,11 @@ inline bool within(double dx, double dy, double dz, double radius2) { return dx 
 
 }  // namespace
 
-std::vector<std::uint32_t> NeighbourSearch::count_within(double radius) const {
+std::vector<std::uint32_t> SpatialIndex::count_within(double radius) const {
   return count_within(radius, 0, point_count_);
 }
 
-std::vector<std::uint32_t> NeighbourSearch::count_within(double radius, std::size_t first, std::size_t count) const {
+std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count) const {
   std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
   for_each_point(radius, first, count,
@@ -174,7 +199,7 @@ std::vector<std::uint32_t> NeighbourSearch::count_within(double radius, std::siz
   return counts;
 }
 
-CsrLists NeighbourSearch::lists_within(double radius, std::size_t first, std::size_t count,
+CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_t count,
                                        const std::vector<std::uint32_t>& counts) const {
   CsrLists lists;
   lists.first_point = first;
@@ -187,7 +212,7 @@ CsrLists NeighbourSearch::lists_within(double radius, std::size_t first, std::si
   return lists;
 }
 
-void NeighbourSearch::fill_lists(double radius, std::size_t first, std::size_t count,
+void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t count,
                                  const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
                                  std::uint32_t* indices) const {
   offsets[0] = 0;
@@ -219,7 +244,7 @@ void NeighbourSearch::fill_lists(double radius, std::size_t first, std::size_t c
   }
 }
 
-double NeighbourSearch::estimate_pairs(double radius) const {
+double SpatialIndex::estimate_pairs(double radius) const {
   // Enough samples to see a dense region covering a few percent of the cloud.
   constexpr std::size_t kSamples = 256;
   if (point_count_ == 0) return 0;
@@ -245,7 +270,8 @@ double NeighbourSearch::estimate_pairs(double radius) const {
   return sum / double(samples) * double(point_count_);
 }
 
-std::vector<double> NeighbourSearch::mean_knn_distance(int k, std::size_t max_samples) const {
+std::vector<double> SpatialIndex::mean_knn_distance(int k, std::size_t max_samples,
+                                                    const std::vector<std::uint32_t>* order) const {
   if (point_count_ < static_cast<std::size_t>(k) + 1 || max_samples == 0) return {};
   const std::size_t samples = std::min(max_samples, point_count_);
   std::vector<double> out(samples);
@@ -254,6 +280,7 @@ std::vector<double> NeighbourSearch::mean_knn_distance(int k, std::size_t max_sa
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t s = 0; s < n; ++s) {
     std::size_t i = static_cast<std::size_t>(s) * point_count_ / samples;
+    if (order != nullptr) i = (*order)[i];
     // k + 1 nearest: the point itself (or a duplicate of it) comes back at distance 0, so the
     // sum of all k + 1 distances is the sum over its k nearest others.
     flann::KNNResultSet<double> result(k + 1);
@@ -266,6 +293,69 @@ std::vector<double> NeighbourSearch::mean_knn_distance(int k, std::size_t max_sa
     out[s] = sum / k;
   }
   return out;
+}
+
+NeighbourTable SpatialIndex::nearest_table(int k) const {
+  flann::SearchParams search;
+  // Exact search; the single kd-tree is exact anyway, but say so rather than rely on it.
+  search.checks = flann::FLANN_CHECKS_UNLIMITED;
+  search.eps = 0.0f;
+  search.sorted = true;
+#ifdef _OPENMP
+  // FLANN spreads the queries of one call over this many threads; each query's answer is
+  // computed by one thread alone, so it does not depend on the count.
+  search.cores = omp_get_max_threads();
+#else
+  search.cores = 1;
+#endif
+
+  // Each point's own entry is asked for too (k + 1 results) and then dropped.
+  const std::size_t count = point_count_;
+  const auto wanted = static_cast<std::size_t>(k) + 1;
+  NeighbourTable table;
+  table.point_count = count;
+  table.k = k;
+  table.indices.resize(count * static_cast<std::size_t>(k));
+  std::vector<std::size_t> found(std::min(count, kQueryBlock) * wanted);
+  // FLANN's L2 distances are SQUARED Euclidean distances; they are only needed for the sort
+  // order, which FLANN has already applied, and are not read here.
+  std::vector<double> squared_distances(found.size());
+  // FLANN's query matrix is of non-const elements; it only reads them.
+  double* queries_data = const_cast<double*>(positions_.data());
+
+  for (std::size_t first = 0; first < count; first += kQueryBlock) {
+    const std::size_t rows = std::min(kQueryBlock, count - first);
+    const flann::Matrix<double> queries(queries_data + first * 3, rows, 3);
+    flann::Matrix<std::size_t> found_matrix(found.data(), rows, wanted);
+    flann::Matrix<double> distance_matrix(squared_distances.data(), rows, wanted);
+    tree_->index.knnSearch(queries, found_matrix, distance_matrix, wanted, search);
+
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::size_t point = first + r;
+      // The point itself is normally the first result, but where duplicates sit at distance 0 it
+      // may be further down or missing; then the farthest result is dropped instead.
+      const std::size_t* results = found.data() + r * wanted;
+      int* row = table.indices.data() + point * static_cast<std::size_t>(k);
+      std::size_t filled = 0;
+      for (std::size_t slot = 0; slot < wanted && filled < static_cast<std::size_t>(k); ++slot) {
+        if (results[slot] != point) row[filled++] = static_cast<int>(results[slot]);
+      }
+    }
+  }
+  return table;
+}
+
+void SpatialIndex::nearest_of_point(std::size_t point, std::size_t k, std::size_t* ids,
+                                    double* squared_distances) const {
+  flann::SearchParams search;
+  search.checks = flann::FLANN_CHECKS_UNLIMITED;
+  search.eps = 0.0f;
+  search.sorted = false;
+  search.cores = 1;  // the caller spreads its samples over threads instead
+  const flann::Matrix<double> query(const_cast<double*>(positions_.data()) + point * 3, 1, 3);
+  flann::Matrix<std::size_t> id_matrix(ids, 1, k);
+  flann::Matrix<double> distance_matrix(squared_distances, 1, k);
+  tree_->index.knnSearch(query, id_matrix, distance_matrix, k, search);
 }
 
 }  // namespace pnf::detail

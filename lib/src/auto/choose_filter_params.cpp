@@ -1,0 +1,177 @@
+// pnf::choose_filter_params: the rule of `pnf filter --auto`, from the measurements of
+// estimate_data.cpp to FilterParams. docs/auto.md shows the evaluation behind every constant.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "pnf/auto_params.hpp"
+#include "pnf/error.hpp"
+
+namespace pnf {
+namespace {
+
+// The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in area
+// spacings (DataEstimate::area_spacing, the unit they were tuned in), p = position noise / area
+// spacing. Four kinds of data, by the estimate's feature share (edges or not)
+// and curved share (a plane or polyhedron, or curved surfaces):
+//
+// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
+// nothing to keep sharp, so the feature term is off. Smooth shapes measured 0-4%, shapes with
+// edges 15-50%.
+constexpr double kSmoothShare = 0.08;
+// A curved share (DataEstimate::curved_share) from this up is a curved shape: flat shapes
+// measured 0-8%, the cylinder 71%, fandisk 22-84%, spheres and tori 100%.
+constexpr double kCurvedShare = 0.15;
+// sigma_g must pass the spread of the distances to the neighbours' planes on one surface (about
+// sqrt 2 times the noise, as both ends are noisy) and no more, so that planes across a sharp
+// edge are still refused: the grid optima (0.2 spacings clean, 0.6-1.1 at 0.25-0.5, 3 at 2)
+// lie on this line.
+constexpr double kSigmaG0 = 0.2;
+constexpr double kSigmaGPerNoise = 1.5;
+// Flat faces between edges: a wide sigma_f and 8 passes at every noise level (each pass sharpens
+// the edges further and nothing bends away from the neighbours' planes); cube and wedges optima.
+constexpr double kFlatEdgesSigmaF = 6.5;
+constexpr int kFlatEdgesPasses = 8;
+// Curved faces between edges: sigma_f grows with the noise, since more neighbours average more of
+// it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
+// distance (fandisk and cylinder optima: 1.6 spacings clean, 3-4 at p = 0.25-0.5, 12 at 2) ...
+constexpr double kCurvedEdgesSigmaF0 = 1.6;
+constexpr double kCurvedEdgesSigmaFPerNoise = 5.0;
+constexpr double kCurvedEdgesSigmaFMax = 12.0;
+// ... and the passes fall with the noise: later passes drift on curved patches and eat small
+// features (fandisk: 8 clean, 2 at p = 0.4; the cylinder: 4 at p = 0.26). passes = this / p,
+// between the bounds below.
+constexpr double kCurvedEdgesPassesTimesNoise = 1.1;
+constexpr int kCurvedEdgesMinPasses = 2;
+constexpr int kCurvedEdgesMaxPasses = 8;
+// Smooth shapes: the feature term off ("off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1
+// to double precision for any neighbour within 2 sigma_f <= 24 spacings) and a wide sigma_f.
+constexpr double kSigmaGOff = 1e6;
+constexpr double kSmoothSigmaF = 8.0;
+// A smooth flat shape (a plane) gains from every pass.
+constexpr int kSmoothFlatPasses = 8;
+// A smooth curved one loses a little with each pass (the averaged normals lean towards the
+// denser side of an irregular sample), so the passes follow the angular noise of the input:
+// none when the positions are clean and the normals already agree with the fitted surface to
+// within this (clean spheres: the input was the best of the grid; at 0.1 spacings of noise one
+// pass still gained 15%) ...
+constexpr double kNoFilterNormalNoiseDeg = 0.6;
+constexpr double kNoFilterNoise = 0.05;
+// ... one pass up to this, then two (spheres and tori, PCA-16 against PCA-64 input normals).
+constexpr double kOnePassNormalNoiseDeg = 3.0;
+constexpr int kSmoothCurvedPasses = 2;
+// Clean positions, but input normals whose errors are alike over a few spacings (normal error
+// correlation from this up; already smoothed, as PCA over 64 neighbours): averaging them again
+// keeps their errors, while the feature term with sigma_g 0.2 spacings (kSigmaG0) re-derives the
+// normals from the positions. One pass, sigma_f between the neighbours' reach and the curvature's
+// (clean torus, PCA-64: 0.70 deg at 3.3 spacings against 0.83 at 1.6 and 0.89 at 6.6, input 1.10;
+// PCA-16 normals there, correlation 0.06, need plain averaging). Clean spheres and tori measured
+// 0.02-0.06 with PCA-16 normals, 0.18-0.34 with PCA-64.
+constexpr double kCoherentErrorCorrelation = 0.2;
+constexpr double kCoherentSigmaF = 3.3;
+// Past this noise (spacings) the feature term rejects more of the same surface than of the other
+// side of an edge, and the estimates can no longer see the edges: it is switched off and the
+// normals are so poor that averaging keeps paying (fandisk at 1.2% of its diagonal: 8.5-9
+// spacings with 10-16 passes all land within 0.01 degrees of each other).
+constexpr double kFeatureOffNoise = 3.0;
+constexpr double kTooNoisySigmaF = 8.5;
+constexpr int kTooNoisyPasses = 14;
+// Passes also end when the normals move less than this on average. Small: on flat shapes every
+// pass still gains a little (at 0.1 degrees the plane and cube stopped at 3-5 of their 8 passes
+// and lost 10-25%).
+constexpr double kStopChangeDeg = 0.01;
+
+std::string format(const char* pattern, double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, pattern, value);
+  return text;
+}
+
+}  // namespace
+
+AutoChoice choose_filter_params(const DataEstimate& estimate) {
+  if (!(estimate.area_spacing > 0) || !std::isfinite(estimate.area_spacing)) {
+    throw Error(ErrorCode::invalid_argument, "choose_filter_params: area_spacing must be > 0 and finite, got " +
+                                                 format("%g", estimate.area_spacing));
+  }
+  if (!(estimate.mean_radius > 0) || !std::isfinite(estimate.mean_radius)) {
+    throw Error(ErrorCode::invalid_argument, "choose_filter_params: mean_radius must be > 0 and finite, got " +
+                                                 format("%g", estimate.mean_radius));
+  }
+  const double noise = estimate.position_noise_area_spacings();
+  AutoChoice choice;
+  choice.estimate = estimate;
+  FilterParams& p = choice.params;
+  p.units = Units::radius;
+  p.mean_radius = estimate.mean_radius;
+  p.stop_change_deg = kStopChangeDeg;
+  const bool smooth = estimate.feature_share < kSmoothShare;
+  const bool curved = estimate.curved_share >= kCurvedShare;
+  const double normal_noise = estimate.normal_noise_deg;
+  std::string why = (smooth ? "smooth (features " : "edges (features ") + format("%.0f", 100 * estimate.feature_share) +
+                    "%), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
+                    "% curved)";
+  if (noise > kFeatureOffNoise) {
+    p.sigma_f = kTooNoisySigmaF;
+    p.sigma_g = kSigmaGOff;
+    p.iterations = kTooNoisyPasses;
+    why = "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
+  } else if (smooth) {
+    p.sigma_f = kSmoothSigmaF;
+    p.sigma_g = kSigmaGOff;
+    if (!curved) {
+      p.iterations = kSmoothFlatPasses;
+    } else if (normal_noise < 0) {  // no input normals to judge: the noisy case
+      p.iterations = kSmoothCurvedPasses;
+    } else if (noise < kNoFilterNoise && normal_noise < kNoFilterNormalNoiseDeg) {
+      p.iterations = 0;
+      why += ", normals already agree with the surface";
+    } else if (noise < kNoFilterNoise && estimate.normal_error_correlation >= kCoherentErrorCorrelation) {
+      p.sigma_f = kCoherentSigmaF;
+      p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
+      p.iterations = 1;
+      why += ", clean positions, normal errors alike over spacings (correlation " +
+             format("%.2f", estimate.normal_error_correlation) + ")";
+    } else {
+      p.iterations = normal_noise < kOnePassNormalNoiseDeg ? 1 : kSmoothCurvedPasses;
+    }
+  } else {
+    p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
+    if (!curved) {
+      p.sigma_f = kFlatEdgesSigmaF;
+      p.iterations = kFlatEdgesPasses;
+    } else {
+      p.sigma_f = std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerNoise * noise, kCurvedEdgesSigmaFMax);
+      const double passes = noise > 0 ? kCurvedEdgesPassesTimesNoise / noise : kCurvedEdgesMaxPasses;
+      p.iterations = int(std::clamp(std::floor(passes), double(kCurvedEdgesMinPasses), double(kCurvedEdgesMaxPasses)));
+    }
+  }
+  const bool feature_off = p.sigma_g >= kSigmaGOff;
+  // The rule's sigmas are in area spacings; FilterParams' are in mean radii. The same lengths in
+  // model units: sigma (area spacings) x area_spacing = sigma (mean radii) x mean_radius.
+  const double sigma_f_area = p.sigma_f, sigma_g_area = p.sigma_g;
+  const double mean_radii_per_area_spacing = estimate.area_spacing / estimate.mean_radius;
+  p.sigma_f *= mean_radii_per_area_spacing;
+  p.sigma_g *= mean_radii_per_area_spacing;
+  std::ostringstream rule;
+  rule << "noise " << format("%.3g", noise) << " area spacings";
+  if (estimate.normal_noise_deg >= 0) rule << ", normals " << format("%.3g", estimate.normal_noise_deg) << " deg";
+  rule << ", " << why << " -> ";
+  if (p.iterations == 0) {
+    rule << "no pass (the input normals are kept)";
+  } else {
+    rule << "sigma_f " << format("%.3g", sigma_f_area) << ", sigma_g "
+         << (feature_off ? std::string("off") : format("%.3g", sigma_g_area)) << " area spacings (sigma_f "
+         << format("%.3g", p.sigma_f) << (feature_off ? std::string("") : ", sigma_g " + format("%.3g", p.sigma_g))
+         << " mean radii), up to " << p.iterations << " passes, stop below " << format("%g", p.stop_change_deg)
+         << " deg";
+  }
+  choice.rule = rule.str();
+  return choice;
+}
+
+AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
+
+}  // namespace pnf

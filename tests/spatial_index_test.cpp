@@ -1,0 +1,191 @@
+#include "spatial/spatial_index.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "spatial/spatial_order.hpp"
+
+namespace {
+
+using pnf::detail::CsrLists;
+using pnf::detail::SpatialIndex;
+
+std::vector<double> random_points(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> p(3 * n);
+  for (double& v : p) v = u(rng);
+  return p;
+}
+
+std::set<std::uint32_t> brute_force(const std::vector<double>& p, std::size_t s, double radius) {
+  std::set<std::uint32_t> out;
+  for (std::size_t j = 0; j < p.size() / 3; ++j) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (p[3 * j + k] - p[3 * s + k]) * (p[3 * j + k] - p[3 * s + k]);
+    if (std::sqrt(d2) <= radius) out.insert(static_cast<std::uint32_t>(j));
+  }
+  return out;
+}
+
+TEST(SpatialIndex, MatchBruteForce) {
+  std::vector<double> p = random_points(2000, 1);
+  SpatialIndex search(p);
+  const double radius = 0.08;
+  std::vector<std::uint32_t> counts = search.count_within(radius);
+  CsrLists lists = search.lists_within(radius, 0, 2000, counts);
+  ASSERT_EQ(lists.offsets.size(), 2001u);
+  for (std::size_t s = 0; s < 2000; ++s) {
+    std::set<std::uint32_t> got(lists.indices.begin() + lists.offsets[s], lists.indices.begin() + lists.offsets[s + 1]);
+    EXPECT_EQ(got.size(), lists.offsets[s + 1] - lists.offsets[s]) << "duplicate ids in list " << s;
+    EXPECT_EQ(got, brute_force(p, s, radius)) << "point " << s;
+    EXPECT_TRUE(got.count(static_cast<std::uint32_t>(s))) << "point " << s << " is not its own neighbour";
+  }
+}
+
+TEST(SpatialIndex, RadiusIsInclusive) {
+  // Integer grid, radius exactly 1: the 6 axis neighbours sit exactly on the boundary and belong.
+  std::vector<double> p;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) p.insert(p.end(), {double(i), double(j), double(k)});
+  SpatialIndex search(p);
+  std::vector<std::uint32_t> counts = search.count_within(1.0);
+  EXPECT_EQ(counts[13], 7u);  // the centre (1,1,1): itself and 6 at distance 1
+  EXPECT_EQ(counts[0], 4u);   // a corner: itself and 3
+}
+
+TEST(SpatialIndex, ChunkListsEqualTheWholeCloudsLists) {
+  std::vector<double> p = random_points(1000, 2);
+  SpatialIndex search(p);
+  std::vector<std::uint32_t> counts = search.count_within(0.1);
+  CsrLists whole = search.lists_within(0.1, 0, 1000, counts);
+  CsrLists part = search.lists_within(0.1, 400, 300, counts);
+  ASSERT_EQ(part.offsets.size(), 301u);
+  EXPECT_EQ(part.offsets[0], 0u);
+  for (std::size_t k = 0; k < 300; ++k) {
+    std::vector<std::uint32_t> a(whole.indices.begin() + whole.offsets[400 + k],
+                                 whole.indices.begin() + whole.offsets[401 + k]);
+    std::vector<std::uint32_t> b(part.indices.begin() + part.offsets[k], part.indices.begin() + part.offsets[k + 1]);
+    EXPECT_EQ(a, b) << "point " << 400 + k;
+  }
+}
+
+TEST(SpatialIndex, MeanKnnDistanceOnAGrid) {
+  std::vector<double> p;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) p.insert(p.end(), {0.5 * i, 0.5 * j, 0.0});
+  SpatialIndex search(p);
+  std::vector<double> d = search.mean_knn_distance(4, 400);
+  ASSERT_EQ(d.size(), 400u);
+  EXPECT_NEAR(d[21 * 10], 0.5, 1e-12);  // an interior point: 4 edge neighbours at 0.5
+}
+
+// Squared distances from point s to every other point, nearest first (random points: no ties).
+std::vector<std::pair<double, std::uint32_t>> brute_force_nearest(const std::vector<double>& p, std::size_t s) {
+  std::vector<std::pair<double, std::uint32_t>> out;
+  for (std::size_t j = 0; j < p.size() / 3; ++j) {
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (p[3 * j + k] - p[3 * s + k]) * (p[3 * j + k] - p[3 * s + k]);
+    out.push_back({d2, static_cast<std::uint32_t>(j)});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(SpatialIndex, NearestTableMatchesBruteForce) {
+  std::vector<double> p = random_points(1500, 3);
+  const SpatialIndex index(p);
+  const int k = 8;
+  const pnf::detail::NeighbourTable table = index.nearest_table(k);
+  ASSERT_EQ(table.point_count, 1500u);
+  ASSERT_EQ(table.k, k);
+  for (std::size_t s = 0; s < 1500; s += 7) {
+    const auto truth = brute_force_nearest(p, s);  // truth[0] is s itself
+    for (int slot = 0; slot < k; ++slot) {
+      EXPECT_EQ(std::uint32_t(table.row(s)[slot]), truth[std::size_t(slot) + 1].second)
+          << "point " << s << " slot " << slot;
+    }
+  }
+}
+
+// Both of FLANN's result sets (a sorted array up to 250 neighbours, a heap beyond) give the exact
+// k nearest.
+TEST(SpatialIndex, NearestOfPointMatchesBruteForce) {
+  std::vector<double> p = random_points(2000, 4);
+  const SpatialIndex index(p, SpatialIndex::Layout::any_order);
+  for (std::size_t k : {std::size_t(5), std::size_t(300)}) {
+    std::vector<std::size_t> ids(k);
+    std::vector<double> squared(k);
+    for (std::size_t s = 0; s < 2000; s += 101) {
+      index.nearest_of_point(s, k, ids.data(), squared.data());
+      const auto truth = brute_force_nearest(p, s);
+      std::set<std::size_t> got(ids.begin(), ids.end()), want;
+      for (std::size_t j = 0; j < k; ++j) want.insert(truth[j].second);
+      EXPECT_EQ(got, want) << "point " << s << ", k " << k;
+      EXPECT_NEAR(*std::max_element(squared.begin(), squared.end()), truth[k - 1].first, 1e-12)
+          << "squared distances, point " << s;
+    }
+  }
+}
+
+// The layout only decides whether FLANN copies the points in leaf order: every answer is the same.
+TEST(SpatialIndex, LayoutChangesNoAnswer) {
+  std::vector<double> p = random_points(3000, 6);
+  const SpatialIndex in_place(p, SpatialIndex::Layout::curve_ordered);
+  const SpatialIndex copied(p, SpatialIndex::Layout::any_order);
+  const std::vector<std::uint32_t> counts = in_place.count_within(0.07);
+  EXPECT_EQ(counts, copied.count_within(0.07));
+  const CsrLists a = in_place.lists_within(0.07, 0, 3000, counts), b = copied.lists_within(0.07, 0, 3000, counts);
+  EXPECT_EQ(a.offsets, b.offsets);
+  EXPECT_EQ(a.indices, b.indices);
+  EXPECT_EQ(in_place.nearest_table(6).indices, copied.nearest_table(6).indices);
+  EXPECT_EQ(in_place.mean_knn_distance(4, 3000), copied.mean_knn_distance(4, 3000));
+}
+
+// The mean distance of one point does not depend on where the tree holds it: sampling a shuffled
+// copy through the permutation gives the same values bit for bit.
+TEST(SpatialIndex, MeanKnnDistanceThroughAnOrderIsOrderFree) {
+  std::vector<double> p = random_points(2000, 8);
+  std::vector<std::uint32_t> shuffle(2000);
+  std::iota(shuffle.begin(), shuffle.end(), 0u);
+  std::shuffle(shuffle.begin(), shuffle.end(), std::mt19937(3));
+  std::vector<double> q(p.size());
+  for (std::size_t i = 0; i < 2000; ++i)
+    for (int k = 0; k < 3; ++k) q[3 * i + k] = p[3 * shuffle[i] + k];
+  // q[i] = p[shuffle[i]], so point j of p is point inverse[j] of q.
+  std::vector<std::uint32_t> inverse(2000);
+  for (std::uint32_t i = 0; i < 2000; ++i) inverse[shuffle[i]] = i;
+  const SpatialIndex original(p), shuffled(q, SpatialIndex::Layout::any_order);
+  EXPECT_EQ(original.mean_knn_distance(4, 500), shuffled.mean_knn_distance(4, 500, &inverse));
+}
+
+TEST(SpatialOrder, IsAPermutationThatKeepsNeighboursClose) {
+  std::vector<pnf::Vec3> points;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < 5000; ++i) points.push_back({u(rng), u(rng), u(rng)});
+  std::vector<std::uint32_t> order = pnf::detail::morton_order(points);
+  std::vector<std::uint32_t> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::uint32_t i = 0; i < 5000; ++i) ASSERT_EQ(sorted[i], i);
+  // Consecutive points along the curve are much closer than consecutive input points (random).
+  auto mean_step = [&](auto index) {
+    double sum = 0;
+    for (int k = 1; k < 5000; ++k) {
+      const pnf::Vec3 &a = points[index(k - 1)], &b = points[index(k)];
+      sum += std::sqrt(std::pow(a[0] - b[0], 2) + std::pow(a[1] - b[1], 2) + std::pow(a[2] - b[2], 2));
+    }
+    return sum / 4999;
+  };
+  double curve = mean_step([&](int k) { return order[k]; });
+  double input = mean_step([&](int k) { return k; });
+  EXPECT_LT(curve, 0.25 * input);
+}
+
+}  // namespace
