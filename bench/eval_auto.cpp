@@ -382,13 +382,19 @@ const Grid kCoarseGrid{{2, 8}, {0.25, 1, 1e6}, {2, 8}};
 constexpr double kGaussianSigmaG = 1e6;
 
 Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vector<std::string>& grid_files,
-                 const Grid& spec = kFullGrid) {
+                 const Grid& spec = kFullGrid, bool estimate_only = false) {
   Outcome o;
   o.input_rms = rms_line_angle(c.cloud.normals, c.truth);
   o.mean_radius = estimate_mean_radius(c.cloud.positions);
+  if (estimate_only) {  // the rule's choice and its measurements, no filtering
+    o.choice = choose_filter_params(c.cloud);
+    return o;
+  }
   o.paper_rms = o.gaussian_rms = -1;
+  // A cached grid serves without --no-grid too: then it holds at least the paper's and the
+  // Gaussian setting of an earlier run, which are not run again.
   for (const std::string& file : grid_files) {
-    if (!grid || !o.grid.empty()) break;
+    if (!o.grid.empty()) break;
     o.grid = cached_grid(file, c.name);
   }
   auto note = [&](const Setting& s) {
@@ -421,17 +427,17 @@ Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vect
       }
     }
   }
-  // Outside the grid (or without one): run the two fixed settings themselves.
-  if (o.paper_rms < 0) {
-    FilterParams paper = kPaper;
-    paper.mean_radius = o.mean_radius;
-    o.paper_rms = rms_line_angle(filter.run(c.cloud, paper).normals, c.truth);
-  }
-  if (o.gaussian_rms < 0) {
-    FilterParams gaussian = kPaper;
-    gaussian.sigma_g = kGaussianSigmaG;
-    gaussian.mean_radius = o.mean_radius;
-    o.gaussian_rms = rms_line_angle(filter.run(c.cloud, gaussian).normals, c.truth);
+  // Outside the grid (or without one): run the two fixed settings themselves. They join the grid
+  // (and the JSON file, so that --grid-from finds them).
+  for (const double sigma_g : {kPaper.sigma_g, kGaussianSigmaG}) {
+    double& rms = sigma_g == kPaper.sigma_g ? o.paper_rms : o.gaussian_rms;
+    if (rms >= 0) continue;
+    FilterParams params = kPaper;
+    params.sigma_g = sigma_g;
+    params.mean_radius = o.mean_radius;
+    rms = rms_line_angle(filter.run(c.cloud, params).normals, c.truth);
+    o.grid.push_back({params.sigma_f, sigma_g, params.iterations, rms});
+    note(o.grid.back());
   }
   auto t = std::chrono::steady_clock::now();
   o.choice = choose_filter_params(c.cloud);
@@ -500,7 +506,7 @@ int main(int argc, char** argv) {
   std::vector<int> pca_ks = {16, 64};
   std::vector<int> fandisk_levels = {0, 1, 2, 3};
   std::vector<std::string> grid_files;
-  bool held_out = false;
+  bool held_out = false, estimate_only = false;
   std::vector<std::string> held_out_shapes = {"crease", "longcyl", "roundbox"};
   std::vector<double> angles = {60, 90, 120, 135, 150};
   std::vector<std::size_t> held_out_points = {20000, 100000, 400000};
@@ -525,6 +531,7 @@ int main(int argc, char** argv) {
   app.add_flag("--held-out", held_out,
                "the held-out family of issue 14 (single creases, a long capped cylinder, a rounded box at 20k-400k "
                "points), after the cases above; with --no-synthetic --no-fandisk only it");
+  app.add_flag("--estimate-only", estimate_only, "only the estimates and the rule's choice (no filtering, no grid)");
   app.add_option("--held-out-shapes", held_out_shapes, "crease, longcyl, roundbox");
   app.add_option("--angles", angles, "dihedral angles of the single creases, degrees");
   app.add_option("--held-out-points", held_out_points, "point counts of the held-out shapes");
@@ -538,6 +545,7 @@ int main(int argc, char** argv) {
   app.add_option("--backend", backend, "opencl (default) or reference")->check(CLI::IsMember({"opencl", "reference"}));
   app.add_option("--device", device, "OpenCL device selector");
   CLI11_PARSE(app, argc, argv);
+  if (estimate_only) no_grid = true;
   if (quick) {
     shapes = {"plane", "cube", "torus"};
     noises = {0, 0.5};
@@ -556,17 +564,17 @@ int main(int argc, char** argv) {
   std::printf("%-24s %6s %6s %6s %6s %7s %13s %13s %6s  %s\n", "case", "input", "paper", "gauss", "best", "auto",
               "best setting", "auto setting", "ratio",
               "estimate: spacing/radius, noise in spacings (true), normals deg, features %, curved %, normal error "
-              "correlation");
+              "correlation, crease length per size");
 
   std::vector<std::pair<Case, Outcome>> results;
   auto report = [&](Case& c, const Outcome& o) {
     const DataEstimate& e = o.choice.estimate;
-    std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f\n",
+    std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f\n",
                 c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
                 no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
                 e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
-                e.normal_noise_deg,
-                100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation);
+                e.normal_noise_deg, 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation,
+                e.crease_length);
     std::fflush(stdout);
     c.cloud = {};
     c.truth = {};
@@ -604,7 +612,7 @@ int main(int argc, char** argv) {
           c.truth = shape.normals;
           c.true_spacing = spacing;
           c.true_noise = noise * spacing;
-          report(c, evaluate(filter, c, !no_grid, grid_files));
+          report(c, evaluate(filter, c, !no_grid, grid_files, kFullGrid, estimate_only));
         }
       }
     }
@@ -654,7 +662,8 @@ int main(int argc, char** argv) {
               c.truth = shape.normals;
               c.true_spacing = spacing;
               c.true_noise = noise * spacing;
-              report(c, evaluate(filter, c, !no_grid, grid_files, n > full_grid_points ? kCoarseGrid : kFullGrid));
+              report(c, evaluate(filter, c, !no_grid, grid_files, n > full_grid_points ? kCoarseGrid : kFullGrid,
+                                 estimate_only));
             }
           }
         }
@@ -693,7 +702,7 @@ int main(int argc, char** argv) {
         c.truth = truth;
         c.true_noise = kFandiskNoise[level] * diagonal;
         c.true_spacing = 0;  // unknown (the mesh's area is not at hand): noise shown in estimated spacings
-        report(c, evaluate(filter, c, !no_grid, grid_files));
+        report(c, evaluate(filter, c, !no_grid, grid_files, kFullGrid, estimate_only));
       }
     }
   }
@@ -731,7 +740,7 @@ int main(int argc, char** argv) {
           << "\", \"mean_radius\": " << o.mean_radius << ", \"spacing\": " << e.area_spacing
           << ", \"noise_spacings\": " << e.position_noise_area_spacings() << ", \"true_noise\": " << c.true_noise
           << ", \"normal_noise_deg\": " << e.normal_noise_deg << ", \"feature_share\": " << e.feature_share
-          << ", \"curved_share\": " << e.curved_share
+          << ", \"curved_share\": " << e.curved_share << ", \"crease_length\": " << e.crease_length
           << ", \"normal_error_correlation\": " << e.normal_error_correlation << ", \"rule\": \""
           << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {

@@ -53,6 +53,14 @@ struct DataEstimate {
   // shapes, and also where the noise hides the features. Judged two scales above fit_neighbours,
   // or fewer where 80% or more would miss there (a neighbourhood wider than a thin part).
   double feature_share = 0;
+  // The length of sharp creases those edge fits imply, in units of the square root of the
+  // surface's area (so the same surface sampled 4 times denser measures the same, where the
+  // feature share halves): two unit squares meeting at one crease measure about 0.7 (1 over sqrt 2), a cube 4.9
+  // (12 edges over the square root of 6 faces), smooth shapes 0. Edge fits cover a band of about
+  // two fit radii along each crease: length = feature_share x area / (2 x fit radius), the area
+  // being points x spacing^2. Gentle or noisy creases leave a narrower band and read short.
+  double crease_length = 0;
+  std::size_t edge_samples = 0, feature_samples = 0;  // the fits at an edge, of all judged there
   // Share of the smooth samples (0..1) whose fitted quadric curves by more than 0.015 per
   // spacing (a radius under about 67 spacings): near 0 on planes and polyhedra, near 1 on spheres.
   double curved_share = 0;

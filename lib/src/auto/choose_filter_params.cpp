@@ -14,13 +14,17 @@ namespace {
 
 // The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in area
 // spacings (DataEstimate::area_spacing, the unit they were tuned in), p = position noise / area
-// spacing. Four kinds of data, by the estimate's feature share (edges or not)
+// spacing. Four kinds of data, by the estimate's crease length (edges or not)
 // and curved share (a plane or polyhedron, or curved surfaces):
 //
-// Fewer samples than this share at a feature (DataEstimate::feature_share) is a smooth shape:
-// nothing to keep sharp, so the feature term is off. Smooth shapes measured 0-4%, shapes with
-// edges 15-50%.
-constexpr double kSmoothShare = 0.08;
+// Less crease than this (DataEstimate::crease_length: crease length over the square root of the
+// area, which does not change with the sampling density, unlike the share of samples at an edge
+// that an earlier rule used: issue 14) is a smooth shape. The evaluated smooth shapes measured
+// exactly 0 (not one fit at an edge), the shapes with edges 1.1-3.7; any value between would
+// split those. Single creases of 60-135 degrees with up to 0.25 spacings of noise measured
+// 0.33-1.2 at 20k-400k points, and gentler or noisier ones fade towards 0 (135 degrees at 0.25
+// spacings: 0.05 at 20k points, 0.02 at 100k): those are left to the smooth line's finite sigma_g.
+constexpr double kEdgesCreaseLength = 0.15;
 // A curved share (DataEstimate::curved_share) from this up is a curved shape: flat shapes
 // measured 0-8%, the cylinder 71%, fandisk 22-84%, spheres and tori 100%.
 constexpr double kCurvedShare = 0.15;
@@ -46,10 +50,21 @@ constexpr double kCurvedEdgesSigmaFMax = 12.0;
 constexpr double kCurvedEdgesPassesTimesNoise = 1.1;
 constexpr int kCurvedEdgesMinPasses = 2;
 constexpr int kCurvedEdgesMaxPasses = 8;
-// Smooth shapes: the feature term off ("off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1
-// to double precision for any neighbour within 2 sigma_f <= 24 spacings) and a wide sigma_f.
+// "Off": a width so large that exp(-d^2 / 2 sigma_g^2) is 1 to double precision for any
+// neighbour within 2 sigma_f <= 24 spacings.
 constexpr double kSigmaGOff = 1e6;
+// Smooth shapes: a wide sigma_f. Flat ones keep the feature term, wider than shapes with edges
+// (pnf's rule, not the paper's): a crease the estimate cannot see (gentle, or under the noise) is
+// still there, and with the term off their eight passes of averaging blurred it into normals
+// worse than the input (issue 14: 135 degrees at 0.25 spacings, 4.32 deg against 2.17 for the
+// paper's settings). sigma_g is a few times the noise (the distances to the neighbours' planes on
+// one flat surface spread by sqrt 2 times it): on the planes it cost nothing (0.16 / 0.37 deg at
+// 0.25 / 0.5 spacings, against 0.16 / 0.36 with the term off). Curved smooth shapes keep the term
+// off: there the neighbours' planes leave the surface with the distance, and the same sigma_g cost
+// 40-70% (sphere at 0.25 spacings, PCA-16: 1.44 against 0.83 deg; torus at 0.5: 4.04 against
+// 2.81); their one or two passes blur a crease too faint to be seen far less than eight.
 constexpr double kSmoothSigmaF = 8.0;
+constexpr double kSmoothFlatSigmaGPerNoise = 3.0;
 // A smooth flat shape (a plane) gains from every pass.
 constexpr int kSmoothFlatPasses = 8;
 // A smooth curved one loses a little with each pass (the averaged normals lean towards the
@@ -107,11 +122,11 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   p.units = Units::radius;
   p.mean_radius = estimate.mean_radius;
   p.stop_change_deg = kStopChangeDeg;
-  const bool smooth = estimate.feature_share < kSmoothShare;
+  const bool smooth = estimate.crease_length < kEdgesCreaseLength;
   const bool curved = estimate.curved_share >= kCurvedShare;
   const double normal_noise = estimate.normal_noise_deg;
-  std::string why = (smooth ? "smooth (features " : "edges (features ") + format("%.0f", 100 * estimate.feature_share) +
-                    "%), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
+  std::string why = (smooth ? "smooth (crease length " : "edges (crease length ") +
+                    format("%.2f", estimate.crease_length) + " per size), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
                     "% curved)";
   if (noise > kFeatureOffNoise) {
     p.sigma_f = kTooNoisySigmaF;
@@ -122,6 +137,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     p.sigma_f = kSmoothSigmaF;
     p.sigma_g = kSigmaGOff;
     if (!curved) {
+      p.sigma_g = kSigmaG0 + kSmoothFlatSigmaGPerNoise * noise;
       p.iterations = kSmoothFlatPasses;
     } else if (normal_noise < 0) {  // no input normals to judge: the noisy case
       p.iterations = kSmoothCurvedPasses;

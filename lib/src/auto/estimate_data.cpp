@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cloud_checks.hpp"
+#include "crease_evidence.hpp"
 #include "geometry.hpp"
 #include "mean_radius_internal.hpp"
 #include "pnf/auto_params.hpp"
@@ -300,6 +301,17 @@ DataEstimate estimate_data(const CloudView& cloud) {
     if (fits.empty()) continue;
     estimate.feature_share = share_at_edges(fits);
     if (estimate.feature_share < kImplausibleFeatureShare) break;
+  }
+  // How much crease those edge fits mean on the surface, whatever the sampling density (issue 14).
+  {
+    detail::CreaseFits crease_fits;
+    for (const SampleFit& f : fits) crease_fits.residuals.push_back(f.residual);
+    crease_fits.fit_radius = medians(fits, &SampleFit::radius);
+    const detail::CreaseEvidence evidence =
+        detail::crease_evidence(crease_fits, edge_residual, count, estimate.area_spacing);
+    estimate.crease_length = evidence.length_per_size;
+    estimate.edge_samples = evidence.edge_samples;
+    estimate.feature_samples = evidence.samples;
   }
   // Curvature is judged only on fits that are clearly smooth (residual within the noise's own
   // spread): a fit grazing an edge reports a large curvature.

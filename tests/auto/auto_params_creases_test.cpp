@@ -1,0 +1,183 @@
+// pnf::choose_filter_params on mostly flat shapes with a few creases (issue 14): `--auto` must
+// keep a rare crease and never return normals worse than its input, and its choice must not
+// depend on how densely the same surface is sampled. The answers are the shapes' true normals,
+// known from their construction, not anything the rule computes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "pnf/auto_params.hpp"
+#include "pnf/estimate_normals.hpp"
+#include "pnf/normal_filter.hpp"
+#include "test_backends.hpp"
+#include "test_clouds.hpp"
+
+namespace pnf::test {
+namespace {
+
+// Two unit squares meeting along the y axis at the dihedral angle `degrees` (180: one plane):
+// a crease 1 long in an area of 2, sampled uniformly at random with `points` samples, so the
+// spacing (square root of the area per point) is sqrt(2 / points). Gaussian position noise of
+// `noise` spacings per axis.
+struct Crease {
+  PointCloud cloud;
+  std::vector<Vec3> truth;
+  double spacing = 0;
+};
+
+Crease make_crease(double degrees, int points, double noise, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const double t = degrees * kPi / 180;
+  // Face b leaves the crease in direction (-cos t, 0, sin t), at the angle t to face a's (-1, 0, 0);
+  // both normals point into the wedge between the faces.
+  const Vec3 along_b = {-std::cos(t), 0, std::sin(t)};
+  const Vec3 normal_b = {-std::sin(t), 0, -std::cos(t)};
+  Crease c;
+  c.spacing = std::sqrt(2.0 / points);
+  std::normal_distribution<double> g(0, noise * c.spacing);
+  for (int i = 0; i < points; ++i) {
+    const double s = u01(rng), y = u01(rng);
+    Vec3 p;
+    if (u01(rng) < 0.5) {
+      p = {-s, y, 0};
+      c.truth.push_back({0, 0, 1});
+    } else {
+      p = {s * along_b[0], y, s * along_b[2]};
+      c.truth.push_back(normal_b);
+    }
+    if (noise > 0) p = {p[0] + g(rng), p[1] + g(rng), p[2] + g(rng)};
+    c.cloud.positions.push_back(p);
+  }
+  return c;
+}
+
+// PCA normals over 16 neighbours, turned to the true side (a sign only; the filter needs
+// consistent signs, the score ignores them), as `pnf estimate` would give a scan.
+std::vector<Vec3> pca16_normals(const std::vector<Vec3>& positions, const std::vector<Vec3>& truth) {
+  EstimateParams params;
+  params.k = 16;
+  params.orientation = Orientation::outward;  // cheap; replaced by the true side below
+  std::vector<Vec3> normals = estimate_normals(positions, params);
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    if (dot(normals[i], truth[i]) < 0) normals[i] = {-normals[i][0], -normals[i][1], -normals[i][2]};
+  }
+  return normals;
+}
+
+// RMS angle between the normals and the truth as lines (min(t, 180 - t)), degrees.
+double rms_line_angle(const std::vector<Vec3>& normals, const std::vector<Vec3>& truth) {
+  double sum = 0;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const double t = angle_deg(normals[i], truth[i]);
+    sum += std::min(t, 180 - t) * std::min(t, 180 - t);
+  }
+  return std::sqrt(sum / double(normals.size()));
+}
+
+// issue 14's target: --auto within 10% of the best fixed setting.
+constexpr double kWithinOfAFixedSetting = 1.10;
+
+NormalFilter& fastest_filter() {
+  std::string why;
+  NormalFilter* f = opencl_filter(why);
+  return f ? *f : *reference_filter();
+}
+
+// The issue's case: 90 degrees, 100k points, 0.1 spacings of noise, PCA normals. Before the fix
+// --auto read "7% of the samples at an edge -> smooth", switched the feature term off and
+// returned 6.27 deg RMS against 3.34 for its input (the paper's settings: 1.25).
+TEST(AutoCreases, RareNinetyDegreeCreaseIsNotMadeWorse) {
+  Crease c = make_crease(90, 100000, 0.1, 14);
+  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
+  const AutoChoice choice = choose_filter_params(c.cloud);
+  const double input = rms_line_angle(c.cloud.normals, c.truth);
+  const double filtered = rms_line_angle(fastest_filter().run(c.cloud, choice.params).normals, c.truth);
+  EXPECT_LT(filtered, input) << choice.rule;
+  // The feature term is what keeps the crease: a finite sigma_g (off is 1e6 spacings).
+  EXPECT_LT(choice.params.sigma_g, 100.0) << choice.rule;
+}
+
+// The issue's second case: a gentle crease (135 degrees) at 20k points and 0.25 spacings of noise
+// read "1% edges -> smooth" and gave 4.32 deg against 2.17 for the paper's settings.
+TEST(AutoCreases, GentleCreaseIsNotMadeWorse) {
+  Crease c = make_crease(135, 20000, 0.25, 15);
+  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
+  const AutoChoice choice = choose_filter_params(c.cloud);
+  const double input = rms_line_angle(c.cloud.normals, c.truth);
+  const double filtered = rms_line_angle(fastest_filter().run(c.cloud, choice.params).normals, c.truth);
+  FilterParams paper;  // the paper's settings: FilterParams' defaults
+  const double paper_rms = rms_line_angle(fastest_filter().run(c.cloud, paper).normals, c.truth);
+  EXPECT_LT(filtered, input) << choice.rule;
+  // The issue's target is 10% of the best fixed setting of the evaluation's grid, of which the
+  // paper's is one point: so at most 10% above the paper's.
+  EXPECT_LT(filtered, kWithinOfAFixedSetting * paper_rms) << choice.rule;
+  EXPECT_LT(choice.params.sigma_g, 100.0) << choice.rule;
+}
+
+// The same surface 4 and 20 times denser gets an equivalent choice: the same branch of the rule
+// (feature term on or off, the same passes) and sigmas within kSigmaTolerance of each other in
+// the surface's true spacings. Only estimates (no filtering), so 400k points stay quick. The
+// normals are the truth jittered by 5 degrees: they only steer the rule on smooth curved shapes.
+TEST(AutoCreases, ChoiceDoesNotDependOnTheSamplingDensity) {
+  // The sigmas follow the noise estimate (sigma_g = 0.2 + 1.5 p), which is good to about 10% at
+  // these densities (EstimateData tests: within 25% across noise levels); 20% between any two
+  // densities leaves room for that and still tells the branches apart (6.5 against 8 spacings,
+  // 0.35 against 1e6).
+  constexpr double kSigmaTolerance = 0.2;
+  struct Shape {
+    double degrees, noise;
+  };
+  for (const Shape shape : {Shape{90, 0.1}, Shape{135, 0.25}, Shape{60, 0.0}}) {
+    std::vector<AutoChoice> choices;
+    std::vector<double> true_spacings;
+    for (int points : {20000, 100000, 400000}) {
+      Crease c = make_crease(shape.degrees, points, shape.noise, 16 + unsigned(points / 1000));
+      std::mt19937 rng(7);
+      for (const Vec3& n : c.truth) c.cloud.normals.push_back(jitter_normal(n, 5, rng));
+      choices.push_back(choose_filter_params(c.cloud));
+      true_spacings.push_back(c.spacing);
+    }
+    if (shape.noise < 0.2 && shape.degrees <= 90) {
+      // Sharp creases: the measure against the true crease length per size, 1 / sqrt 2 (a crease 1
+      // long in an area of 2). The band of edge fits is only about two fit radii wide, and its
+      // count varies from sample to sample: here 90 degrees at 0.1 spacings measured 0.89-1.17
+      // times the truth at 20k-400k points, 60 degrees clean 1.19-1.87 (sharper folds leave a
+      // wider band), the cube in the evaluation 0.75. Within a factor 2 either way is what the
+      // rule needs: the line it draws (0.15) is a fifth of this crease's length.
+      constexpr double kTrueLength = 0.70710678;
+      constexpr double kLowest = 0.5, kHighest = 2.0;
+      for (std::size_t i = 0; i < choices.size(); ++i) {
+        EXPECT_GT(choices[i].estimate.crease_length, kLowest * kTrueLength) << choices[i].rule;
+        EXPECT_LT(choices[i].estimate.crease_length, kHighest * kTrueLength) << choices[i].rule;
+      }
+    }
+    for (std::size_t i = 1; i < choices.size(); ++i) {
+      const AutoChoice& a = choices[0];
+      const AutoChoice& b = choices[i];
+      const std::string what = "crease " + std::to_string(int(shape.degrees)) + " deg, noise " +
+                               std::to_string(shape.noise) + ", density " + std::to_string(i) + " against 0:\n  " +
+                               a.rule + "\n  " + b.rule;
+      EXPECT_EQ(a.params.sigma_g < 100.0, b.params.sigma_g < 100.0) << what;
+      EXPECT_EQ(a.params.iterations, b.params.iterations) << what;
+      // Sigmas in the true spacings of each cloud: params are in units of params.mean_radius.
+      auto in_spacings = [](double sigma, const AutoChoice& c, double spacing) {
+        return sigma * c.params.mean_radius / spacing;
+      };
+      const double fa = in_spacings(a.params.sigma_f, a, true_spacings[0]);
+      const double fb = in_spacings(b.params.sigma_f, b, true_spacings[i]);
+      EXPECT_NEAR(fb / fa, 1.0, kSigmaTolerance) << what;
+      if (a.params.sigma_g < 100.0 && b.params.sigma_g < 100.0) {
+        const double ga = in_spacings(a.params.sigma_g, a, true_spacings[0]);
+        const double gb = in_spacings(b.params.sigma_g, b, true_spacings[i]);
+        EXPECT_NEAR(gb / ga, 1.0, kSigmaTolerance) << what;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pnf::test
