@@ -478,6 +478,9 @@ std::string auto_text(const Outcome& o) {
 constexpr double kTinyError = 0.05;
 // The target: --auto within 10% of the grid's best.
 constexpr double kWithinOfBest = 1.10;
+// "Worse than the input" past this many degrees: a run of 0 passes returns the input normals
+// through the filter's float storage, which moves the RMS by about 1e-6 degrees.
+constexpr double kSameAsInputDeg = 1e-3;
 std::string ratio_text(const Outcome& o, bool no_grid) {
   if (no_grid || o.best.rms < kTinyError) return "-";
   char text[32];
@@ -711,7 +714,7 @@ int main(int argc, char** argv) {
   {
     int worse = 0, over = 0, graded = 0;
     for (const auto& [c, o] : results) {
-      if (o.auto_rms > o.input_rms) {
+      if (o.auto_rms > o.input_rms + kSameAsInputDeg) {
         ++worse;
         std::printf("worse than its input: %s (%.2f against %.2f)\n", c.name.c_str(), o.auto_rms, o.input_rms);
       }

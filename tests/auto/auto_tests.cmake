@@ -1,6 +1,8 @@
 # Tests of pnf::estimate_data, pnf::choose_filter_params and `pnf filter --auto` / --stop-change:
 # included into the single test executable (the CLI cases skip when PNF_CLI_PATH is empty).
+# auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
+# crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself.
 list(APPEND PNF_TEST_SOURCES
-  ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp)
-list(APPEND PNF_TEST_SOURCES
-  ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp)

@@ -74,8 +74,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
     std::fprintf(stderr, "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f\n",
                  e.normal_noise_deg, e.normal_error_correlation);
   }
-  std::fprintf(stderr, "  shape            %.0f%% of the samples at an edge, %.0f%% of the smooth ones curved\n",
-               100 * e.feature_share, 100 * e.curved_share);
+  std::fprintf(stderr,
+               "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), %.0f%% of the "
+               "smooth ones curved\n",
+               e.crease_length, 100 * e.feature_share, 100 * e.curved_share);
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
 }
 

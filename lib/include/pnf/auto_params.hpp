@@ -96,12 +96,14 @@ struct AutoChoice {
 
 // The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings
 // (then converted to mean radii: times area_spacing / mean_radius), "edges" meaning
-// feature_share >= 8% and "curved" curved_share >= 15%:
+// crease_length >= 0.15 (not a share of the samples, which falls as the density grows) and
+// "curved" curved_share >= 15%:
 //   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
 //   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes;
 //   edges, curved faces: sigma_f min(1.6 + 5 p, 12), sigma_g 0.2 + 1.5 p, floor(1.1 / p) passes
 //     within [2, 8];
-//   smooth, flat: sigma_f 8, feature term off, 8 passes;
+//   smooth, flat: sigma_f 8, sigma_g 0.2 + 3 p (pnf's rule, not the paper's: a crease too faint
+//     to measure is kept rather than blurred), 8 passes;
 //   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
 //     normal_noise_deg < 0.6; when p < 0.05 and normal_error_correlation >= 0.2 instead sigma_f
 //     3.3, sigma_g 0.2 + 1.5 p, 1 pass (the clean positions re-derive already-smoothed normals);
