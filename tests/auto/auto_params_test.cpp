@@ -438,7 +438,8 @@ TEST_F(CliTest, FilterAutoPrintsTheEstimateAndImproves) {
   const std::string in = write_cloud("sphere.ply", n.cloud);
   const CliRun r = run({"filter", in, path("out.ply"), "--auto", "--backend", "reference"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  for (const char* piece : {"spacing", "position noise", "normal noise", "chose", "sigma_f", "stop rule", "passes"}) {
+  for (const char* piece :
+       {"spacing", "position noise", "normal noise", "crease length", "chose", "sigma_f", "stop rule", "passes"}) {
     EXPECT_TRUE(contains(r.err, piece)) << "no '" << piece << "' in\n" << r.err;
   }
   const std::vector<Vec3> out = read_point_file(path("out.ply")).cloud().normals;

@@ -126,8 +126,8 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   const bool curved = estimate.curved_share >= kCurvedShare;
   const double normal_noise = estimate.normal_noise_deg;
   std::string why = (smooth ? "smooth (crease length " : "edges (crease length ") +
-                    format("%.2f", estimate.crease_length) + " per size), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
-                    "% curved)";
+                    format("%.2f", estimate.crease_length) + " per size), " + (curved ? "curved (" : "flat (") +
+                    format("%.0f", 100 * estimate.curved_share) + "% curved)";
   if (noise > kFeatureOffNoise) {
     p.sigma_f = kTooNoisySigmaF;
     p.sigma_g = kSigmaGOff;
