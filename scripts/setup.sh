@@ -11,6 +11,7 @@ packages=(
   libcli11-dev libpng-dev
   clang libclang-rt-14-dev libomp-dev
   python3-matplotlib
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()
