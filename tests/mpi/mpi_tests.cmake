@@ -10,3 +10,14 @@ foreach(ranks 1 2 3 4)
     COMMAND ${MPIEXEC_EXECUTABLE} --oversubscribe ${MPIEXEC_NUMPROC_FLAG} ${ranks} $<TARGET_FILE:pnf_mpi_tests>)
   set_tests_properties(mpi_library_np${ranks} PROPERTIES TIMEOUT 300 ENVIRONMENT "${PNF_MPI_TEST_ENVIRONMENT}")
 endforeach()
+
+# The command line under mpirun (needs the pnf tool and python3).
+if(TARGET pnf_cli)
+  find_package(Python3 COMPONENTS Interpreter)
+  if(Python3_FOUND)
+    add_test(NAME mpi_cli
+      COMMAND bash ${PROJECT_SOURCE_DIR}/tests/mpi/cli_mpi_test.sh $<TARGET_FILE:pnf_cli> ${MPIEXEC_EXECUTABLE}
+              ${CMAKE_CURRENT_BINARY_DIR}/mpi_cli_work)
+    set_tests_properties(mpi_cli PROPERTIES TIMEOUT 600)
+  endif()
+endif()
