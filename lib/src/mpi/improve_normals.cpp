@@ -71,9 +71,9 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
     }
   });
   FilterOptions resolved = options;
-  resolved.device = detail::choose_device(comm, options.device);
   std::unique_ptr<pnf::detail::FilterBackend> backend;
   agree.run([&] {
+    resolved.device = detail::choose_device(comm, options.device);  // its one collective comes first
     backend = resolved.device.backend == Backend::opencl
                   ? pnf::detail::make_opencl_backend(resolved.device.selector, 0)
                   : pnf::detail::make_reference_backend(resolved.reference_threads);
