@@ -223,7 +223,9 @@ bool launched_as_many() {
 }
 
 int run_filter_distributed(const DistributedFilterRun& filter_run) {
-  MPI_Init(nullptr, nullptr);
+  // The engine runs OpenMP threads; only this thread calls MPI.
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);

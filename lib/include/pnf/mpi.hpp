@@ -12,8 +12,8 @@
 // to the rank that passed them.
 //
 // Thread safety: a collective call: every rank of `comm` calls it with the same params and
-// options, from one thread each (MPI_THREAD_FUNNELED or better is not needed: MPI is called
-// from the calling thread only).
+// options, from one thread each. MPI is called from the calling thread only, while the engine
+// runs OpenMP threads beside it: initialise MPI with at least MPI_THREAD_FUNNELED.
 #pragma once
 
 #include <mpi.h>

@@ -177,6 +177,11 @@ PlySliceLayout read_slice_layout(const std::string& path) {
     offset += row * element.count;
   }
   layout.body_end = offset;
+  // Bytes after the last element: one process refuses data there and accepts filler; the rank-0
+  // path decides as it does. A file too short fails on the rank whose rows are missing.
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (!ec && size > layout.body_end) return refuse("bytes after the last element");
   layout.output_header = header_text(layout.header, false);
   layout.sliceable = true;
   return layout;
