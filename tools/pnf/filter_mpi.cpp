@@ -51,8 +51,7 @@ PointCloud scatter_cloud(MPI_Comm comm, const PointCloud& whole, int rank, int r
   return part;
 }
 
-std::vector<Vec3> gather_normals(MPI_Comm comm, const std::vector<Vec3>& mine, std::size_t total, int rank,
-                                 int ranks) {
+std::vector<Vec3> gather_normals(MPI_Comm comm, const std::vector<Vec3>& mine, std::size_t total, int rank, int ranks) {
   int count = int(3 * mine.size());
   std::vector<int> counts(static_cast<std::size_t>(ranks)), displs(static_cast<std::size_t>(ranks), 0);
   MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm);
@@ -73,8 +72,15 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
     e = DataEstimate{};  // too few points on this rank to estimate: it does not count
   }
   const double w = double(e.samples);
-  double sums[9] = {w, w * e.spacing, w * e.position_noise, w * e.normal_noise_deg, w * e.feature_share,
-                    w * e.curved_share, w * e.normal_error_correlation, w * e.fit_radius, double(local.size())};
+  double sums[9] = {w,
+                    w * e.spacing,
+                    w * e.position_noise,
+                    w * e.normal_noise_deg,
+                    w * e.feature_share,
+                    w * e.curved_share,
+                    w * e.normal_error_correlation,
+                    w * e.fit_radius,
+                    double(local.size())};
   MPI_Allreduce(MPI_IN_PLACE, sums, 9, MPI_DOUBLE, MPI_SUM, comm);
   int neighbours = e.fit_neighbours;
   MPI_Allreduce(MPI_IN_PLACE, &neighbours, 1, MPI_INT, MPI_MAX, comm);
@@ -152,8 +158,9 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
         if (rank != 0) return;
         whole = read_point_file(run.in);
         if (!whole.has_normals()) {
-          throw Error(ErrorCode::invalid_input, run.in + ": the vertices have no normals (nx ny nz); run `pnf estimate " +
-                                                    run.in + " OUT` first");
+          throw Error(
+              ErrorCode::invalid_input,
+              run.in + ": the vertices have no normals (nx ny nz); run `pnf estimate " + run.in + " OUT` first");
         }
         cloud = whole.cloud();
       });
@@ -175,9 +182,8 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
       }
     }
     std::vector<Vec3> normals(local.size());
-    const mpi::DistributedSummary summary =
-        mpi::improve_normals(comm, local, normals, params, run.options,
-                             rank == 0 ? progress_bar(run.quiet) : ProgressCallback{});
+    const mpi::DistributedSummary summary = mpi::improve_normals(
+        comm, local, normals, params, run.options, rank == 0 ? progress_bar(run.quiet) : ProgressCallback{});
 
     stage = Stage::writing;
     t = Clock::now();
@@ -198,9 +204,8 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
     return rank == 0 ? report(e, stage) : exit_code(e, stage);
   } catch (const Error& e) {
     // Failed inside a collective step that others may still be waiting in: end the job.
-    const int code = report(Error(e.code(), "rank " + std::to_string(rank) + " of " + std::to_string(ranks) + ": " +
-                                                e.what()),
-                            stage);
+    const int code = report(
+        Error(e.code(), "rank " + std::to_string(rank) + " of " + std::to_string(ranks) + ": " + e.what()), stage);
     MPI_Abort(comm, code);
     return code;
   } catch (const std::exception& e) {

@@ -29,10 +29,10 @@ namespace pnf::mpi {
 // What a distributed run did. Figures named _min / _max are over the ranks; every rank gets
 // the same values except `local`.
 struct DistributedSummary {
-  FilterSummary local;         // this rank's part (points = its owned points); mean_radius,
-                               // radius_source, sigma_f and sigma_g are the run's, alike on all ranks
+  FilterSummary local;  // this rank's part (points = its owned points); mean_radius,
+                        // radius_source, sigma_f and sigma_g are the run's, alike on all ranks
   int ranks = 0;
-  std::size_t points = 0;      // over all ranks
+  std::size_t points = 0;                    // over all ranks
   std::size_t owned_min = 0, owned_max = 0;  // points each rank filtered
   std::size_t halo_min = 0, halo_max = 0;    // other ranks' points each rank held
   std::size_t neighbour_pairs = 0;           // over all ranks, per pass

@@ -88,7 +88,8 @@ std::vector<std::vector<std::uint32_t>> points_near(MPI_Comm comm, const std::ve
 
   // My occupied target cells go to every rank whose sources may be near them.
   std::vector<Cell> target_cells;
-  for (std::size_t i = 0; i < targets.size() / 3; ++i) target_cells.push_back(cell_of(&targets[3 * i], frame.low, size));
+  for (std::size_t i = 0; i < targets.size() / 3; ++i)
+    target_cells.push_back(cell_of(&targets[3 * i], frame.low, size));
   std::sort(target_cells.begin(), target_cells.end());
   target_cells.erase(std::unique(target_cells.begin(), target_cells.end()), target_cells.end());
   std::vector<int> send_counts(static_cast<std::size_t>(ranks), 0), recv_counts(static_cast<std::size_t>(ranks), 0);

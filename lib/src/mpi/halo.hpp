@@ -51,7 +51,7 @@ class HaloPlan {
   MPI_Comm graph_ = MPI_COMM_NULL;
   std::vector<int> out_ranks_, in_ranks_;
   std::vector<int> send_counts_, send_displs_, recv_counts_, recv_displs_;  // per neighbour, in points
-  std::vector<std::uint32_t> send_index_;  // owned indices, grouped by out-neighbour
+  std::vector<std::uint32_t> send_index_;                                   // owned indices, grouped by out-neighbour
   std::size_t halo_points_ = 0;
   std::size_t moved_bytes_ = 0;
   mutable std::vector<double> send_buffer_;

@@ -126,7 +126,7 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
   std::vector<double> new_normals(3 * n);
   agree.run([&] {
     summary.local = pnf::detail::run_filter(*backend, resolved, view, MutableVec3ArrayView(new_normals.data(), n),
-                                           part_params, progress, &part);
+                                            part_params, progress, &part);
   });
   backend.reset();
   summary.local.mean_radius = mean_radius;

@@ -85,7 +85,8 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
   }
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPI_DOUBLE, MPI_MAX, comm), "MPI_Allreduce");
   std::vector<double> sample_positions;
-  for (std::uint32_t i : mine) sample_positions.insert(sample_positions.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
+  for (std::uint32_t i : mine)
+    sample_positions.insert(sample_positions.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
   const auto lists = points_near(comm, owned.positions, sample_positions, width, frame);
   std::vector<double> all = own;
   const std::vector<double> halo = recentred(send_positions(comm, owned.positions, lists), centre);

@@ -33,8 +33,8 @@ struct OwnedPoints {
   std::vector<double> positions;  // n by 3, model units, as given
   std::vector<double> normals;    // n by 3, as given (not normalised)
   std::vector<std::uint64_t> gids;
-  std::vector<int> source_rank;            // the rank that passed the point
-  std::vector<std::uint64_t> source_index; // its index there
+  std::vector<int> source_rank;             // the rank that passed the point
+  std::vector<std::uint64_t> source_index;  // its index there
   std::uint64_t first_global = 0;
   std::uint64_t total = 0;  // points over all ranks
   std::size_t size() const { return gids.size(); }

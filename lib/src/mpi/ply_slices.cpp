@@ -52,7 +52,8 @@ class Descriptor {
       if (got < 0 && errno == EINTR) continue;
       if (got < 0) io_error(path_, "cannot read at byte " + std::to_string(offset), errno);
       if (got == 0) {
-        throw Error(ErrorCode::io, path_ + ": the file ends at byte " + std::to_string(offset) + ", before its rows do");
+        throw Error(ErrorCode::io,
+                    path_ + ": the file ends at byte " + std::to_string(offset) + ", before its rows do");
       }
       p += got, size -= std::size_t(got), offset += std::uint64_t(got);
     }
@@ -103,7 +104,8 @@ PlySliceLayout read_slice_layout(const std::string& path) {
     if (keyword == "comment" || keyword == "obj_info") {
       std::size_t start = line.find(keyword) + keyword.size();
       if (start < line.size()) ++start;
-      layout.header.comments.push_back({keyword, start < line.size() ? line.substr(start) : std::string(), declarations});
+      layout.header.comments.push_back(
+          {keyword, start < line.size() ? line.substr(start) : std::string(), declarations});
     } else if (keyword == "format") {
       if (tokens.size() != 3 || tokens[1] != "binary_little_endian" || have_format) {
         return refuse("not binary_little_endian");
@@ -217,8 +219,8 @@ PlySlice read_slice(const std::string& path, const PlySliceLayout& layout, int r
   return slice;
 }
 
-void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path,
-                  const PlySliceLayout& layout, PlySlice& slice, const std::vector<Vec3>& normals) {
+void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path, const PlySliceLayout& layout,
+                  PlySlice& slice, const std::vector<Vec3>& normals) {
   const Agreement agree(comm);
   // Rank 0 names and creates the temporary file; every rank learns the name.
   std::string temporary;
@@ -247,20 +249,23 @@ void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& 
     agree.run([&] {
       for (std::size_t i = 0; i < normals.size(); ++i) {
         unsigned char* row = &slice.rows[i * layout.row_size];
-        for (int k = 0; k < 3; ++k) store_real(layout.normal_type[k], normals[i][std::size_t(k)], row + layout.normal_offset[k]);
+        for (int k = 0; k < 3; ++k)
+          store_real(layout.normal_type[k], normals[i][std::size_t(k)], row + layout.normal_offset[k]);
       }
       const Descriptor out(temporary, O_WRONLY);
       // The output is the input with the header rewritten as write_point_file writes it.
       const std::uint64_t shift = layout.output_header.size();
       const auto out_offset = [&](std::uint64_t in_offset) { return in_offset - layout.body_offset + shift; };
-      out.write_at(slice.rows.data(), slice.rows.size(), out_offset(layout.vertex_offset + slice.first * layout.row_size));
+      out.write_at(slice.rows.data(), slice.rows.size(),
+                   out_offset(layout.vertex_offset + slice.first * layout.row_size));
       if (agree.rank() == 0) {
         out.write_at(layout.output_header.data(), layout.output_header.size(), 0);
         // The other elements' bytes, before and after the vertex rows, copied unchanged.
         const Descriptor in(in_path, O_RDONLY);
         const std::uint64_t vertex_end = layout.vertex_offset + layout.vertex_count * layout.row_size;
         std::vector<unsigned char> buffer;
-        for (auto [from, to] : {std::pair{layout.body_offset, layout.vertex_offset}, std::pair{vertex_end, layout.body_end}}) {
+        for (auto [from, to] :
+             {std::pair{layout.body_offset, layout.vertex_offset}, std::pair{vertex_end, layout.body_end}}) {
           for (std::uint64_t at = from; at < to; at += kCopyChunk) {
             buffer.resize(std::size_t(std::min<std::uint64_t>(kCopyChunk, to - at)));
             in.read_at(buffer.data(), buffer.size(), at);

@@ -18,15 +18,15 @@ namespace pnf::mpi::detail {
 
 // What every rank learns from the header (each rank reads the header itself).
 struct PlySliceLayout {
-  bool sliceable = false;    // false: use the rank-0 path; why_not says why
+  bool sliceable = false;  // false: use the rank-0 path; why_not says why
   std::string why_not;
-  PlyHeader header;          // as read_point_file reads it
-  std::string output_header; // the header write_point_file writes for it (binary_little_endian)
+  PlyHeader header;                 // as read_point_file reads it
+  std::string output_header;        // the header write_point_file writes for it (binary_little_endian)
   std::uint64_t body_offset = 0;    // first byte after end_header
   std::uint64_t vertex_offset = 0;  // first byte of the vertex rows
   std::uint64_t vertex_count = 0;
   std::uint64_t row_size = 0;
-  std::uint64_t body_end = 0;       // end of the last element's rows
+  std::uint64_t body_end = 0;  // end of the last element's rows
   std::size_t position_offset[3] = {0, 0, 0}, normal_offset[3] = {0, 0, 0}, radius_offset = 0;
   PlyScalar position_type[3] = {}, normal_type[3] = {}, radius_type = PlyScalar::float32;
   bool has_normals = false, has_radius = false;
@@ -55,7 +55,7 @@ PlySlice read_slice(const std::string& path, const PlySliceLayout& layout, int r
 // rows, with `normals` (the slice's rows) stored in their declared types, into one temporary
 // file next to `out_path`; after every rank has written and synced, rank 0 renames it over
 // `out_path`. On any rank's failure every rank throws the agreed error and no file is left.
-void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path,
-                  const PlySliceLayout& layout, PlySlice& slice, const std::vector<Vec3>& normals);
+void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path, const PlySliceLayout& layout,
+                  PlySlice& slice, const std::vector<Vec3>& normals);
 
 }  // namespace pnf::mpi::detail
