@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # `mpirun -np P pnf filter` against one process (README, "Beyond one machine"): output bytes
 # identical except the normals, normals within 1e-3 degrees; the rank-0 path for ascii input;
-# --auto; a truncated file (one rank's slice unreadable), a device error on one rank and a killed
-# rank end the job with nothing written and the input untouched.
+# --auto; a truncated file (one rank's slice unreadable), a device error on one rank and a rank
+# killed in its passes end the job with nothing written and the input untouched.
 # Usage: cli_mpi_test.sh PNF MPIEXEC WORK_DIR
 set -euo pipefail
 pnf=$1
@@ -78,9 +78,12 @@ head -c 300 dev.log; echo
 grep -q "^pnf: error: rank 1 of 2: " dev.log || fail "the error does not name rank 1"
 check_nothing_written dev_out.ply
 
-echo "== a killed rank"
+echo "== a rank killed in its passes"
+# Rank 2 runs under a shell that kills it 2 s in, while 60 passes (about 10 s) are under way.
 set +e
-run -np 1 "$pnf" filter rich.ply kill_out.ply --device reference : -np 1 sh -c 'kill -9 $$' >kill.log 2>&1
+run -np 2 "$pnf" filter rich.ply kill_out.ply --device reference --iterations 60 : \
+  -np 1 sh -c '"$0" "$@" & p=$!; sleep 2; kill -9 $p; wait $p' \
+  "$pnf" filter rich.ply kill_out.ply --device reference --iterations 60 >kill.log 2>&1
 code=$?
 set -e
 [ "$code" != 0 ] || fail "a killed rank gave exit code 0"
