@@ -67,6 +67,23 @@ grep -q "^pnf: error: rank 2 of 3: " cut.log || fail "the error does not name ra
 [ "$(grep -c 'pnf: error' cut.log)" = 1 ] || fail "the error is not printed once"
 check_nothing_written cut_out.ply
 
+echo "== a NaN in one rank's rows: the one-process message, vertex numbered in the file"
+python3 - <<'PY'
+import struct
+d = bytearray(open("house_noisy.ply", "rb").read())
+end = d.index(b"end_header\n") + len(b"end_header\n")
+struct.pack_into("<d", d, end + 48 * 15000 + 8, float("nan"))
+open("nan.ply", "wb").write(d)
+PY
+set +e
+"$pnf" filter nan.ply nan1.ply 2>nan1.log
+run -np 3 "$pnf" filter nan.ply nan3.ply 2>nan3.log
+code=$?
+set -e
+[ "$code" = 3 ] || fail "exit code $code for a NaN (want 3)"
+grep -q "^pnf: error: rank 2 of 3: $(sed 's/^pnf: error: //' nan1.log)\$" nan3.log || { cat nan1.log nan3.log; fail "not the one-process message"; }
+[ ! -e nan3.ply ] || fail "written after a NaN"
+
 echo "== a device error on one rank"
 set +e
 run -np 1 "$pnf" filter rich.ply dev_out.ply --device reference : -np 1 -x PNF_DEVICE=no-such-device \

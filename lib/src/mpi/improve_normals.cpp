@@ -61,10 +61,19 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
   summary.ranks = agree.size();
 
   // Everything that can be refused is refused before any point moves.
+  unsigned long long count = local.size(), first = 0;
+  MPI_Exscan(&count, &first, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
+  if (agree.rank() == 0) first = 0;
   agree.run([&] {
     params.validate();
     options.validate();
-    pnf::detail::check_cloud(local, pnf::detail::CloudRequirements::filter());
+    try {
+      pnf::detail::check_cloud(local, pnf::detail::CloudRequirements::filter());
+    } catch (const Error& e) {
+      // Its vertex numbers count this rank's points; say where they start among all ranks'.
+      throw Error(e.code(), std::string(e.what()) + " (its vertex 0 is vertex " + std::to_string(first) +
+                                " of all ranks' points in rank order)");
+    }
     if (normals_out.count != local.size()) {
       throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
                                                    " rows for " + std::to_string(local.size()) + " points");

@@ -76,6 +76,26 @@ class Descriptor {
   int fd_;
 };
 
+// The reader's own check of the vertices (check_vertices), on this slice's rows, with the vertex
+// numbered in the whole file as one process names it.
+void check_rows(const std::string& path, const PlySliceLayout& layout, const PlySlice& slice) {
+  PointFile::Impl impl;
+  impl.header = layout.header;
+  locate_vertex_fields(impl, path);
+  impl.header.elements[impl.vertex_element].count = slice.rows.size() / std::size_t(layout.row_size);
+  impl.values.resize(impl.header.elements.size());
+  impl.values[impl.vertex_element] = slice.rows;
+  try {
+    check_vertices(impl, path, {});
+  } catch (const Error& e) {
+    const std::string message = e.what(), prefix = path + ": vertex ";
+    if (message.rfind(prefix, 0) != 0) throw;
+    std::size_t digits = 0;
+    const unsigned long long local = std::stoull(message.substr(prefix.size()), &digits);
+    throw Error(e.code(), prefix + std::to_string(slice.first + local) + message.substr(prefix.size() + digits));
+  }
+}
+
 }  // namespace
 
 PlySliceLayout read_slice_layout(const std::string& path) {
@@ -204,6 +224,7 @@ PlySlice read_slice(const std::string& path, const PlySliceLayout& layout, int r
   slice.rows.resize(std::size_t(count * layout.row_size));
   const Descriptor in(path, O_RDONLY);
   in.read_at(slice.rows.data(), slice.rows.size(), layout.vertex_offset + slice.first * layout.row_size);
+  check_rows(path, layout, slice);
   PointCloud& cloud = slice.cloud;
   cloud.positions.resize(std::size_t(count));
   cloud.normals.resize(std::size_t(count));
