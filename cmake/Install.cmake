@@ -1,8 +1,13 @@
-# Installs headers, the library and a CMake package: find_package(pnf CONFIG) + pnf::pnf.
+# Installs headers, the libraries and a CMake package: find_package(pnf CONFIG) + pnf::pnf, and
+# pnf::mpi when built with MPI.
 
 include(CMakePackageConfigHelpers)
 
-install(TARGETS pnf EXPORT pnfTargets
+set(pnf_installed_targets pnf)
+if(PNF_WITH_MPI)
+  list(APPEND pnf_installed_targets pnf_mpi)
+endif()
+install(TARGETS ${pnf_installed_targets} EXPORT pnfTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -12,6 +12,7 @@ packages=(
   clang libclang-rt-14-dev libomp-dev
   python3-matplotlib
   pybind11-dev python3-dev python3-venv
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

@@ -24,24 +24,27 @@ std::uint64_t spread_bits(std::uint64_t v) {
 
 }  // namespace
 
+MortonFrame morton_frame(const Vec3& low, const Vec3& high) {
+  double extent = 0;
+  for (int k = 0; k < 3; ++k) extent = std::max(extent, high[k] - low[k]);
+  return {low, extent > 0 ? kCellsPerAxis / extent : 0};
+}
+
+std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p) {
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    auto cell = static_cast<std::uint64_t>((p[k] - frame.low[k]) * frame.to_cells);
+    key |= spread_bits(cell) << k;
+  }
+  return key;
+}
+
 std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions) {
   const std::size_t n = positions.count;
   const BoundingBox box = bounding_box(positions);
-  const Vec3& lo = box.min;
-  double extent = 0;
-  for (int k = 0; k < 3; ++k) extent = std::max(extent, box.max[k] - box.min[k]);
-  const double to_cells = extent > 0 ? kCellsPerAxis / extent : 0;
-
+  const MortonFrame frame = morton_frame(box.min, box.max);
   std::vector<std::uint64_t> keys(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t key = 0;
-    const Vec3 p = positions.at(i);
-    for (int k = 0; k < 3; ++k) {
-      auto cell = static_cast<std::uint64_t>((p[k] - lo[k]) * to_cells);
-      key |= spread_bits(cell) << k;
-    }
-    keys[i] = key;
-  }
+  for (std::size_t i = 0; i < n; ++i) keys[i] = morton_key(frame, positions.at(i));
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });

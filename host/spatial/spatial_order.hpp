@@ -13,4 +13,15 @@ namespace pnf::detail {
 // order. Deterministic. positions: N by 3, any view.
 std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions);
 
+// The curve's frame: the lowest corner of the bounding box and cells per model unit. A
+// distributed run (pnf/mpi.hpp) builds it from the global box so that every rank computes the
+// keys one process would.
+struct MortonFrame {
+  Vec3 low = {0, 0, 0};
+  double to_cells = 0;
+};
+MortonFrame morton_frame(const Vec3& low, const Vec3& high);
+// The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by.
+std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p);
+
 }  // namespace pnf::detail

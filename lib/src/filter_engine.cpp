@@ -146,6 +146,28 @@ std::string seconds_text(double seconds) {
   return text;
 }
 
+// A distributed part with no points at all still takes part in every pass's exchange and stop
+// rule, so that the processes that have points are not left waiting.
+void idle_passes(const DistributedPart& part, const FilterParams& params, const ProgressCallback& progress,
+                 FilterSummary& summary) {
+  const std::vector<double> none;
+  std::vector<double> halo;
+  for (int pass = 1; pass <= params.iterations; ++pass) {
+    part.exchange_halo(none, halo);
+    summary.passes_run = pass;
+    summary.pass_seconds.push_back(0.0);
+    if (progress && !progress(PassProgress{pass, params.iterations, 0.0})) {
+      throw Error(ErrorCode::cancelled, "cancelled after pass " + std::to_string(pass));
+    }
+    if (params.stop_change_deg > 0) {
+      double totals[2] = {0, 0};
+      if (part.sum_over_processes) part.sum_over_processes(totals, 2);
+      summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / totals[1] : 0.0);
+      if (summary.mean_change_deg.back() < params.stop_change_deg) break;
+    }
+  }
+}
+
 }  // namespace
 
 FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
@@ -170,7 +192,10 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   summary.points = owned;
   summary.backend = to_string(options.device.backend);
   summary.device = backend.description();
-  if (cloud.size() == 0) return summary;
+  if (cloud.size() == 0) {
+    if (part) idle_passes(*part, params, progress, summary);
+    return summary;
+  }
 
   auto start = Clock::now();
   OrderedCloud ordered = order_cloud(cloud, owned);
@@ -294,6 +319,11 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
       }
       break;
     } catch (const DeviceMemoryError& e) {
+      // The other processes of a distributed run have moved on: passes cannot start over.
+      if (part && summary.passes_run > 0) {
+        throw Error(ErrorCode::device, std::string(e.what()) + " after pass " + std::to_string(summary.passes_run) +
+                                           " of a distributed run, which cannot start its passes over");
+      }
       // A smaller chunk may fit where this one did not; one point's list is the floor.
       if (largest == 0 || largest <= csr_bytes(1, summary.neighbours_max)) {
         throw Error(ErrorCode::device, std::string(e.what()) + "; even one point's neighbour list does not fit");

@@ -30,6 +30,10 @@ void stop_after_pass_on_interrupt() {
 
 int report(const Error& e, Stage stage) {
   std::fprintf(stderr, "pnf: error: %s\n", e.what());
+  return exit_code(e, stage);
+}
+
+int exit_code(const Error& e, Stage stage) {
   switch (e.code()) {
     case ErrorCode::invalid_argument: return kUsage;
     case ErrorCode::invalid_input: return kInput;

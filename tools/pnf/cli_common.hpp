@@ -28,6 +28,8 @@ enum class Stage { reading, running, writing };
 
 // Prints "pnf: error: <message>" to stderr and returns the exit code for `e` at `stage`.
 int report(const Error& e, Stage stage);
+// The exit code for `e` at `stage`, printing nothing.
+int exit_code(const Error& e, Stage stage);
 
 // A progress callback that draws a one-line bar on stderr when stderr is a terminal and `quiet`
 // is false; otherwise it draws nothing. Making it installs a SIGINT / SIGTERM handler: after the

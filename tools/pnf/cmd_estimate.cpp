@@ -68,7 +68,7 @@ Command add_estimate_command(CLI::App& parent) {
   CLI::App* app = parent.add_subcommand("estimate", "Estimate oriented normals (PCA on k nearest neighbours)");
   app->add_option("IN", flags->in, "input point file (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
-  app->add_option("--k", flags->params.k, "neighbours in each fit (default 16, at least 3)");
+  app->add_option("--k", flags->params.k, "neighbours in each fit, at least 3")->capture_default_str();  // EstimateParams{}
   app->add_option("--orient", flags->orient,
                   "mst: propagate over a minimum spanning tree (default); outward: away from the centroid; "
                   "viewpoint: toward --viewpoint (the default for a .pcd IN, toward its VIEWPOINT origin, as PCL "

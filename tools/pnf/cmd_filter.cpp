@@ -6,6 +6,9 @@
 #include "commands.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/point_file.hpp"
+#ifdef PNF_WITH_MPI
+#include "filter_mpi.hpp"
+#endif
 
 namespace pnf::cli {
 namespace {
@@ -86,6 +89,19 @@ int run_filter(const FilterFlags& flags) {
   params.units = flags.units == "absolute" ? Units::absolute : Units::radius;
   params.mean_radius = flags.radius;
   if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
+#ifdef PNF_WITH_MPI
+  if (launched_as_many()) {
+    DistributedFilterRun run{flags.in, flags.out, params, flags.device.options()};
+    run.options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
+    run.options.memory.max_neighbour_pairs = flags.max_pairs;
+    run.ascii = flags.ascii;
+    run.quiet = flags.quiet;
+    run.automatic = flags.automatic;
+    run.in_place = flags.in_place;
+    run.stop_change = flags.stop_change;
+    return run_filter_distributed(run);
+  }
+#endif
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
     params.validate();

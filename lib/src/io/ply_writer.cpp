@@ -14,6 +14,8 @@ namespace {
 // formatting.
 constexpr std::size_t kTextChunk = std::size_t{1} << 20;
 
+}  // namespace
+
 std::string header_text(const PlyHeader& header, bool ascii) {
   std::string text = "ply\n";
   std::size_t declarations = 0;
@@ -45,6 +47,8 @@ std::string header_text(const PlyHeader& header, bool ascii) {
   text += "end_header\n";
   return text;
 }
+
+namespace {
 
 void write_formatted_rows(const PlyElement& element, const std::vector<unsigned char>& values, AtomicFile& out) {
   RowLayout layout(element.properties);

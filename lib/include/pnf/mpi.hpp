@@ -1,0 +1,62 @@
+// pnf::mpi::improve_normals — the normal filter on a cloud spread over the ranks of an MPI
+// communicator (target pnf::mpi; the core pnf::pnf does not depend on MPI).
+//
+// Each rank passes the points it holds, in any partition (some ranks may hold none); each gets
+// back the new normals of exactly those points, in their order. The result is the one-process
+// result of NormalFilter::run on the concatenation of every rank's points in rank order (SPEC,
+// "Distributed runs (MPI)"), within 1e-3 degrees per normal. Inside: the points move once to a
+// spatially compact owner (Morton ranges of the global bounding box, balanced by points); each
+// owner receives once the points within 2 sigma_f of its own (its halo), builds lists for its
+// own points over own + halo, and after every pass receives its halo's new normals from their
+// owners (neighbour collectives on a distributed-graph communicator). The new normals go back
+// to the rank that passed them.
+//
+// Thread safety: a collective call: every rank of `comm` calls it with the same params and
+// options, from one thread each. MPI is called from the calling thread only, while the engine
+// runs OpenMP threads beside it: initialise MPI with at least MPI_THREAD_FUNNELED.
+#pragma once
+
+#include <mpi.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "pnf/cloud_view.hpp"
+#include "pnf/normal_filter.hpp"
+
+namespace pnf::mpi {
+
+// What a distributed run did. Figures named _min / _max are over the ranks; every rank gets
+// the same values except `local`.
+struct DistributedSummary {
+  FilterSummary local;  // this rank's part (points = its owned points); mean_radius,
+                        // radius_source, sigma_f and sigma_g are the run's, alike on all ranks
+  int ranks = 0;
+  std::size_t points = 0;                    // over all ranks
+  std::size_t owned_min = 0, owned_max = 0;  // points each rank filtered
+  std::size_t halo_min = 0, halo_max = 0;    // other ranks' points each rank held
+  std::size_t neighbour_pairs = 0;           // over all ranks, per pass
+  std::size_t halo_bytes_per_pass = 0;       // normals sent between ranks per pass, all ranks
+  std::size_t messages_per_pass = 0;         // rank-to-rank messages per pass, all ranks
+  std::size_t moved_bytes = 0;               // points sent to their owners and halos, once, all ranks
+  double partition_seconds = 0;              // bounding box, splitters, moving points (max over ranks)
+  double radius_seconds = 0;                 // the mean-radius estimate, when it runs
+  double halo_seconds = 0;                   // finding and sending the halos
+  std::vector<double> pass_seconds;          // per pass, the slowest rank's wall time
+};
+
+// Improves the normals of the points this rank holds (`local`: N_r positions and normals,
+// optional radii, float or double, any stride) and writes their N_r new unit normals into
+// `normals_out` (N_r rows; may alias local.normals). `params` and `options` as for
+// NormalFilter::run; each rank picks its device as NormalFilter does (options.device, else
+// PNF_DEVICE); when the default rule would pick a GPU and a node has several, the ranks of the
+// node take them in turn by node-local rank. The mean radius, when not given, is the one
+// process's: the mean of all radii, or estimate_mean_radius's median over the same samples.
+// Collective: every rank must call it. Throws pnf::Error on every rank alike when any rank
+// fails (bad input, device error, out of memory, cancelled): the message names the first
+// failing rank and its cause ("rank 2 of 4: ..."); normals_out is then unchanged.
+DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
+                                   const FilterParams& params = {}, const FilterOptions& options = {},
+                                   const ProgressCallback& progress = {});
+
+}  // namespace pnf::mpi

@@ -1,0 +1,181 @@
+#include "mean_radius_mpi.hpp"
+
+#include <flann/flann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "agreement.hpp"
+#include "halo.hpp"
+
+namespace pnf::mpi::detail {
+namespace {
+
+// As lib/src/mean_radius.cpp defines the estimate: the mean distance to the 4 nearest other
+// points, over up to 100,000 samples spread evenly along the curve. The MPI tests compare the
+// two bit for bit, so a change there shows here.
+constexpr int kSpacingNeighbours = 4;
+constexpr std::uint64_t kMaxSpacingSamples = 100000;
+
+using Distance = flann::L2<double>;  // FLANN's L2 is the SQUARED Euclidean distance
+
+// Exact k nearest (the point itself included) over a set of re-centred positions.
+class NearestSearch {
+ public:
+  explicit NearestSearch(std::vector<double> positions)
+      : positions_(std::move(positions)),
+        data_(positions_.data(), positions_.size() / 3, 3),
+        index_(data_, flann::KDTreeSingleIndexParams(/*leaf_max_size=*/10, /*reorder=*/true)) {
+    index_.buildIndex();
+  }
+  // The squared distances of the k nearest, ascending (FLANN's KNN result set keeps them sorted,
+  // as in SpatialIndex::mean_knn_distance, so the sums below add in the same order).
+  std::vector<double> squared(const double* query, int k) const {
+    const std::size_t count = static_cast<std::size_t>(k);
+    flann::KNNResultSet<double> result(count);
+    flann::SearchParams params;
+    params.eps = 0;
+    params.sorted = false;
+    index_.findNeighbors(result, query, params);
+    std::vector<std::size_t> ids(count);
+    std::vector<double> d2(count);
+    result.copy(ids.data(), d2.data(), count, false);
+    return d2;
+  }
+
+ private:
+  std::vector<double> positions_;
+  flann::Matrix<double> data_;
+  flann::KDTreeSingleIndex<Distance> index_;
+};
+
+std::vector<double> recentred(const std::vector<double>& positions, const Vec3& centre) {
+  std::vector<double> out(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) out[i] = positions[i] - centre[i % 3];
+  return out;
+}
+
+double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& frame) {
+  const std::uint64_t total = owned.total;
+  const std::size_t n = owned.size();
+  const int k = kSpacingNeighbours;
+  if (total < std::uint64_t(k) + 1) return 0;
+  const std::uint64_t samples = std::min(kMaxSpacingSamples, total);
+  // Sample s is the point at curve rank s * N / S: is g one of them?
+  std::vector<std::uint32_t> mine;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t g = owned.first_global + i;
+    const std::uint64_t s = std::uint64_t(((unsigned __int128)g * samples + total - 1) / total);
+    if (s < samples && std::uint64_t((unsigned __int128)s * total / samples) == g) mine.push_back(std::uint32_t(i));
+  }
+  const Vec3 centre = frame.centre();
+  const std::vector<double> own = recentred(owned.positions, centre);
+
+  // An upper bound of each sample's k-th nearest distance from this rank's points alone.
+  double width = 0;
+  if (!mine.empty()) {
+    if (n < std::size_t(k) + 1) {
+      width = std::numeric_limits<double>::infinity();
+    } else {
+      NearestSearch search(own);
+      for (std::uint32_t i : mine) width = std::max(width, std::sqrt(search.squared(&own[3 * i], k + 1).back()));
+    }
+  }
+  check_mpi(MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPI_DOUBLE, MPI_MAX, comm), "MPI_Allreduce");
+  std::vector<double> sample_positions;
+  for (std::uint32_t i : mine)
+    sample_positions.insert(sample_positions.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
+  const auto lists = points_near(comm, owned.positions, sample_positions, width, frame);
+  std::vector<double> all = own;
+  const std::vector<double> halo = recentred(send_positions(comm, owned.positions, lists), centre);
+  all.insert(all.end(), halo.begin(), halo.end());
+
+  std::vector<double> distances;
+  distances.reserve(mine.size());
+  if (!mine.empty()) {
+    NearestSearch search(std::move(all));
+    for (std::uint32_t i : mine) {
+      double sum = 0;
+      for (double d2 : search.squared(&own[3 * i], k + 1)) sum += std::sqrt(d2);
+      distances.push_back(sum / k);
+    }
+  }
+  // The median over every sample, on rank 0, as estimate_mean_radius takes it.
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  int count = int(distances.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  check_mpi(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm), "MPI_Gather");
+  std::vector<int> displs = displacements(counts);
+  std::vector<double> gathered(rank == 0 ? std::size_t(displs.back() + counts.back()) : 0);
+  check_mpi(MPI_Gatherv(distances.data(), count, MPI_DOUBLE, gathered.data(), counts.data(), displs.data(), MPI_DOUBLE,
+                        0, comm),
+            "MPI_Gatherv");
+  double median = 0;
+  if (rank == 0) {
+    gathered.erase(std::remove(gathered.begin(), gathered.end(), 0.0), gathered.end());
+    if (!gathered.empty()) {
+      auto middle = gathered.begin() + std::ptrdiff_t(gathered.size() / 2);
+      std::nth_element(gathered.begin(), middle, gathered.end());
+      median = *middle;
+    }
+  }
+  check_mpi(MPI_Bcast(&median, 1, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  return median;
+}
+
+// The mean of every rank's values added in rank order, one after the other, as one process adds
+// them: a running sum passed from rank to rank (P messages; the additions are N in all, as in one
+// process), so that the mean is bit-identical.
+double ordered_mean(MPI_Comm comm, const ScalarArrayView& values) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  double running[2] = {0, 0};  // sum, count
+  if (rank > 0) check_mpi(MPI_Recv(running, 2, MPI_DOUBLE, rank - 1, 0, comm, MPI_STATUS_IGNORE), "MPI_Recv");
+  for (std::size_t i = 0; i < values.count; ++i) running[0] += values.get(i);
+  running[1] += double(values.count);
+  if (rank + 1 < ranks) check_mpi(MPI_Send(running, 2, MPI_DOUBLE, rank + 1, 0, comm), "MPI_Send");
+  check_mpi(MPI_Bcast(running, 2, MPI_DOUBLE, ranks - 1, comm), "MPI_Bcast");
+  return running[0] / running[1];
+}
+
+}  // namespace
+
+double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoints& owned, const GlobalFrame& frame,
+                           const FilterParams& params, RadiusSource& source) {
+  if (params.units == Units::absolute) {
+    source = RadiusSource::not_used;
+    return 0;
+  }
+  if (params.mean_radius > 0) {
+    source = RadiusSource::given;
+    return params.mean_radius;
+  }
+  // [ranks with points, of them with radii]
+  double totals[2] = {local.size() > 0 ? 1.0 : 0.0, local.size() > 0 && local.has_radii() ? 1.0 : 0.0};
+  check_mpi(MPI_Allreduce(MPI_IN_PLACE, totals, 2, MPI_DOUBLE, MPI_SUM, comm), "MPI_Allreduce");
+  if (totals[1] > 0 && totals[1] < totals[0]) {
+    throw Error(ErrorCode::invalid_input, "the points of " + std::to_string(std::llround(totals[1])) + " of " +
+                                              std::to_string(std::llround(totals[0])) +
+                                              " ranks have radii, the others' have none");
+  }
+  if (totals[1] > 0) {
+    source = RadiusSource::property;
+    return ordered_mean(comm, local.radii);
+  }
+  source = RadiusSource::estimate;
+  const double radius = estimate(comm, owned, frame);
+  if (!(radius > 0)) {
+    throw Error(ErrorCode::invalid_input,
+                "cannot estimate the mean surfel radius of " + std::to_string(owned.total) +
+                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
+                    "explicitly or use absolute units");
+  }
+  return radius;
+}
+
+}  // namespace pnf::mpi::detail

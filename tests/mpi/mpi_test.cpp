@@ -1,0 +1,263 @@
+// pnf::mpi::improve_normals against one process: run under `mpirun -np P` (P = 1 .. 4), every
+// rank runs every test. Rank 0 computes the one-process answer on the whole cloud and
+// broadcasts it; each rank passes a slice of the cloud (even, uneven, empty, all on one rank)
+// and checks its normals against the matching rows.
+#include "pnf/mpi.hpp"
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "pnf/error.hpp"
+#include "pnf/synthetic_shapes.hpp"
+#include "test_clouds.hpp"
+
+namespace {
+
+using namespace pnf;
+using pnf::test::angle_deg;
+
+// SPEC, "Distributed runs (MPI)": the one-process result within 1e-3 degrees per normal.
+constexpr double kToleranceDeg = 1e-3;
+
+int rank() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r;
+}
+int ranks() {
+  int p = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
+  return p;
+}
+
+FilterOptions reference_options() {
+  FilterOptions options;
+  options.device = Device::reference();
+  options.reference_threads = 1;  // ranks share the 2 cores
+  return options;
+}
+
+// The one-process result on rank 0, sent to every rank.
+FilterResult one_process(const PointCloud& cloud, const FilterParams& params, const FilterOptions& options) {
+  FilterResult result;
+  result.normals.resize(cloud.size());
+  if (rank() == 0) result = improve_normals(cloud, params, options);
+  MPI_Bcast(result.normals.data(), int(3 * cloud.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(&result.summary.mean_radius, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(&result.summary.passes_run, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return result;
+}
+
+// Rank r's slice [first[r], first[r + 1]) of the cloud.
+using Split = std::function<std::vector<std::size_t>(std::size_t n, int ranks)>;
+
+std::vector<std::size_t> even(std::size_t n, int p) {
+  std::vector<std::size_t> first(std::size_t(p) + 1);
+  for (int r = 0; r <= p; ++r) first[std::size_t(r)] = n * std::size_t(r) / std::size_t(p);
+  return first;
+}
+// Rank 0 holds 90%, the others share the rest.
+std::vector<std::size_t> uneven(std::size_t n, int p) {
+  std::vector<std::size_t> first(std::size_t(p) + 1, n);
+  first[0] = 0;
+  if (p == 1) return first;
+  const std::size_t big = n * 9 / 10;
+  for (int r = 1; r < p; ++r) first[std::size_t(r)] = big + (n - big) * std::size_t(r - 1) / std::size_t(p - 1);
+  return first;
+}
+// Every point on the last rank; the others pass none.
+std::vector<std::size_t> all_on_last(std::size_t n, int p) {
+  std::vector<std::size_t> first(std::size_t(p) + 1, 0);
+  first[std::size_t(p)] = n;
+  return first;
+}
+// Rank 1 (when there is one) passes none, the others share evenly.
+std::vector<std::size_t> one_empty(std::size_t n, int p) {
+  std::vector<std::size_t> first = even(n, p);
+  if (p > 1) first[1] = first[2];  // rank 0 takes rank 1's share
+  return first;
+}
+
+PointCloud slice(const PointCloud& cloud, std::size_t begin, std::size_t end) {
+  PointCloud part;
+  part.positions.assign(cloud.positions.begin() + std::ptrdiff_t(begin), cloud.positions.begin() + std::ptrdiff_t(end));
+  part.normals.assign(cloud.normals.begin() + std::ptrdiff_t(begin), cloud.normals.begin() + std::ptrdiff_t(end));
+  if (!cloud.radii.empty()) {
+    part.radii.assign(cloud.radii.begin() + std::ptrdiff_t(begin), cloud.radii.begin() + std::ptrdiff_t(end));
+  }
+  return part;
+}
+
+struct Comparison {
+  double max_deg = 0;
+  bool identical = true;
+};
+
+// Runs the distributed filter on this rank's slice and compares with the one-process normals.
+Comparison compare(const PointCloud& cloud, const Split& split, const FilterParams& params,
+                   const FilterOptions& options, const FilterResult& expected, mpi::DistributedSummary* out = nullptr) {
+  const std::vector<std::size_t> first = split(cloud.size(), ranks());
+  const std::size_t begin = first[std::size_t(rank())], end = first[std::size_t(rank()) + 1];
+  const PointCloud part = slice(cloud, begin, end);
+  std::vector<Vec3> normals(part.size());
+  const mpi::DistributedSummary summary =
+      mpi::improve_normals(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), params, options);
+  Comparison c;
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    const Vec3& want = expected.normals[begin + i];
+    c.max_deg = std::max(c.max_deg, angle_deg(normals[i], want));
+    if (normals[i] != want) c.identical = false;
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &c.max_deg, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  int identical = c.identical ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &identical, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  c.identical = identical == 1;
+  EXPECT_EQ(summary.points, cloud.size());
+  EXPECT_EQ(summary.ranks, ranks());
+  EXPECT_EQ(summary.local.mean_radius, expected.summary.mean_radius) << "the mean radius is not the one process's";
+  EXPECT_EQ(summary.local.passes_run, expected.summary.passes_run);
+  if (out) *out = summary;
+  return c;
+}
+
+const SyntheticCloud& house() {
+  static const SyntheticCloud h = make_scanned_house(12000);
+  return h;
+}
+
+TEST(MpiFilter, HouseMatchesOneProcessOnEveryPartition) {
+  FilterParams params;  // the paper's defaults; the mean radius estimated
+  const FilterResult expected = one_process(house().cloud, params, reference_options());
+  const std::pair<const char*, Split> splits[] = {
+      {"even", even}, {"uneven", uneven}, {"one rank empty", one_empty}, {"all on the last rank", all_on_last}};
+  for (const auto& [name, split] : splits) {
+    mpi::DistributedSummary summary;
+    const Comparison c = compare(house().cloud, split, params, reference_options(), expected, &summary);
+    EXPECT_LE(c.max_deg, kToleranceDeg) << name;
+    // One rank holds every point in the one process's order and frame: bit for bit.
+    if (ranks() == 1) EXPECT_TRUE(c.identical) << name;
+    if (rank() == 0) {
+      std::printf("[ rank 0   ] %-22s P=%d max %.3g deg, %s; owned %zu..%zu, halo %zu..%zu, %zu B/pass\n", name,
+                  ranks(), c.max_deg, c.identical ? "bit-identical" : "not bit-identical", summary.owned_min,
+                  summary.owned_max, summary.halo_min, summary.halo_max, summary.halo_bytes_per_pass);
+    }
+    // The owners are balanced whatever the input partition.
+    EXPECT_LE(summary.owned_max - summary.owned_min, house().cloud.size() / 100 + 1) << name;
+  }
+}
+
+TEST(MpiFilter, StopRuleAndRadiiMatchOneProcess) {
+  PointCloud cloud = house().cloud;
+  cloud.radii.assign(cloud.size(), 0.0);
+  for (std::size_t i = 0; i < cloud.size(); ++i) cloud.radii[i] = house().spacing * (0.9 + 0.2 * double(i % 7) / 6);
+  FilterParams params;
+  params.iterations = 12;
+  params.stop_change_deg = 0.5;
+  const FilterResult expected = one_process(cloud, params, reference_options());
+  const Comparison c = compare(cloud, even, params, reference_options(), expected);
+  EXPECT_LE(c.max_deg, kToleranceDeg);
+}
+
+TEST(MpiFilter, OpenClMatchesOneProcess) {
+  FilterOptions options;  // PNF_DEVICE, else the default rule: PoCL here
+  FilterParams params;
+  params.iterations = 2;
+  FilterResult expected;
+  try {
+    expected = one_process(house().cloud, params, options);
+  } catch (const Error& e) {
+    GTEST_SKIP() << "no OpenCL device: " << e.what();
+  }
+  const Comparison c = compare(house().cloud, even, params, options, expected);
+  EXPECT_LE(c.max_deg, kToleranceDeg);
+}
+
+TEST(MpiFilter, HalosCoveringTheWholeCloud) {
+  const SyntheticCloud small = make_scanned_house(1500);
+  FilterParams params;
+  params.sigma_f = 200;  // 2 sigma_f spans the house twice: every rank's halo is every other point
+  params.iterations = 2;
+  const FilterResult expected = one_process(small.cloud, params, reference_options());
+  mpi::DistributedSummary summary;
+  const Comparison c = compare(small.cloud, even, params, reference_options(), expected, &summary);
+  EXPECT_LE(c.max_deg, kToleranceDeg);
+  // Every rank holds the whole cloud: its own points and all the others.
+  EXPECT_EQ(summary.halo_min + summary.owned_max, small.cloud.size());
+  EXPECT_EQ(summary.halo_max + summary.owned_min, small.cloud.size());
+}
+
+TEST(MpiFilter, TooFewPointsMeetTheOneProcessRefusal) {
+  const PointCloud cloud = slice(house().cloud, 0, 3);
+  std::string one;
+  try {
+    improve_normals(cloud, FilterParams{}, reference_options());
+  } catch (const Error& e) {
+    one = e.what();
+  }
+  ASSERT_FALSE(one.empty());
+  const std::vector<std::size_t> first = even(cloud.size(), ranks());
+  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  std::vector<Vec3> normals(part.size());
+  try {
+    mpi::improve_normals(MPI_COMM_WORLD, part, normals, FilterParams{}, reference_options());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string(e.what()).find(one), std::string::npos) << e.what();
+  }
+}
+
+TEST(MpiFilter, EmptyCloudEverywhere) {
+  std::vector<Vec3> normals;
+  const mpi::DistributedSummary s =
+      mpi::improve_normals(MPI_COMM_WORLD, PointCloud{}, normals, FilterParams{}, reference_options());
+  EXPECT_EQ(s.points, 0u);
+}
+
+// A bad point on the last rank ends the run on every rank with one message naming that rank.
+TEST(MpiFilter, FailingRankEndsTheRunEverywhere) {
+  const std::vector<std::size_t> first = even(house().cloud.size(), ranks());
+  PointCloud part = slice(house().cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  if (rank() == ranks() - 1) part.positions[5][1] = std::nan("");
+  std::vector<Vec3> normals(part.size(), Vec3{9, 9, 9});
+  const std::string who = "rank " + std::to_string(ranks() - 1) + " of " + std::to_string(ranks()) + ": ";
+  try {
+    mpi::improve_normals(MPI_COMM_WORLD, part, normals, FilterParams{}, reference_options());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_EQ(std::string(e.what()).rfind(who, 0), 0u) << e.what();
+  }
+  for (const Vec3& n : normals) ASSERT_EQ(n, (Vec3{9, 9, 9})) << "normals written after a failure";
+}
+
+// A device that fails on one rank only (a selector that matches nothing).
+TEST(MpiFilter, DeviceErrorOnOneRank) {
+  const std::vector<std::size_t> first = even(house().cloud.size(), ranks());
+  const PointCloud part = slice(house().cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  FilterOptions options = reference_options();
+  if (rank() == ranks() - 1) options.device = Device::opencl("no-such-device-anywhere");
+  std::vector<Vec3> normals(part.size());
+  try {
+    mpi::improve_normals(MPI_COMM_WORLD, part, normals, FilterParams{}, options);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::device);
+    EXPECT_NE(std::string(e.what()).find("rank " + std::to_string(ranks() - 1)), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  ::testing::InitGoogleTest(&argc, argv);
+  const int result = RUN_ALL_TESTS();
+  MPI_Finalize();
+  return result;
+}

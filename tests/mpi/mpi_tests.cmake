@@ -1,0 +1,23 @@
+# pnf::mpi under mpirun: the library test on P = 1..4 ranks (oversubscribed on small machines;
+# Open MPI refuses root without the two variables). Included from tests/CMakeLists.txt when
+# PNF_WITH_MPI is on.
+add_executable(pnf_mpi_tests ${PROJECT_SOURCE_DIR}/tests/mpi/mpi_test.cpp)
+target_include_directories(pnf_mpi_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+target_link_libraries(pnf_mpi_tests PRIVATE pnf_mpi GTest::gtest)
+set(PNF_MPI_TEST_ENVIRONMENT OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1)
+foreach(ranks 1 2 3 4)
+  add_test(NAME mpi_library_np${ranks}
+    COMMAND ${MPIEXEC_EXECUTABLE} --oversubscribe ${MPIEXEC_NUMPROC_FLAG} ${ranks} $<TARGET_FILE:pnf_mpi_tests>)
+  set_tests_properties(mpi_library_np${ranks} PROPERTIES TIMEOUT 300 ENVIRONMENT "${PNF_MPI_TEST_ENVIRONMENT}")
+endforeach()
+
+# The command line under mpirun (needs the pnf tool and python3).
+if(TARGET pnf_cli)
+  find_package(Python3 COMPONENTS Interpreter)
+  if(Python3_FOUND)
+    add_test(NAME mpi_cli
+      COMMAND bash ${PROJECT_SOURCE_DIR}/tests/mpi/cli_mpi_test.sh $<TARGET_FILE:pnf_cli> ${MPIEXEC_EXECUTABLE}
+              ${CMAKE_CURRENT_BINARY_DIR}/mpi_cli_work)
+    set_tests_properties(mpi_cli PROPERTIES TIMEOUT 600)
+  endif()
+endif()
