@@ -11,6 +11,15 @@
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PNF_HAS_ASAN 1
+#endif
+#endif
+#ifndef PNF_HAS_ASAN
+#define PNF_HAS_ASAN 0
+#endif
+
 namespace {
 
 using namespace pnf::test;
@@ -146,6 +155,11 @@ TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
   // must leave no trace. With a limit low enough to probe (the work passes max_seconds * 1e7)
   // but well above what an OpenCL device needs (PoCL here runs 1e8 pairs a second; the margin is
   // for a loaded machine), the run goes ahead.
+#if defined(__SANITIZE_ADDRESS__) || PNF_HAS_ASAN
+  // The window between "probed" and "refused" is a device speed (1.5e7 to 1e7 pairs a second);
+  // AddressSanitizer slows the host list build below it. The Release suite runs this test.
+  GTEST_SKIP() << "timing window: the sanitizer build's host code is about 10x slower";
+#endif
   std::string why;
   pnf::NormalFilter* unused = pnf::test::opencl_filter(why);
   if (!unused) GTEST_SKIP() << "no OpenCL device: " << why;

@@ -5,6 +5,12 @@ add_executable(pnf_mpi_tests ${PROJECT_SOURCE_DIR}/tests/mpi/mpi_test.cpp)
 target_include_directories(pnf_mpi_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests)
 target_link_libraries(pnf_mpi_tests PRIVATE pnf_mpi GTest::gtest)
 set(PNF_MPI_TEST_ENVIRONMENT OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1)
+if(PNF_SANITIZE)
+  # Open MPI's components are dlopened and unloaded before exit, so LeakSanitizer reports their
+  # allocations with no frame a suppression could name. Leaks stay checked everywhere else (the
+  # whole non-MPI suite, pnf's own code included); ASan and UBSan still check these runs.
+  list(APPEND PNF_MPI_TEST_ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1")
+endif()
 foreach(ranks 1 2 3 4)
   add_test(NAME mpi_library_np${ranks}
     COMMAND ${MPIEXEC_EXECUTABLE} --oversubscribe ${MPIEXEC_NUMPROC_FLAG} ${ranks} $<TARGET_FILE:pnf_mpi_tests>)
@@ -18,6 +24,6 @@ if(TARGET pnf_cli)
     add_test(NAME mpi_cli
       COMMAND bash ${PROJECT_SOURCE_DIR}/tests/mpi/cli_mpi_test.sh $<TARGET_FILE:pnf_cli> ${MPIEXEC_EXECUTABLE}
               ${CMAKE_CURRENT_BINARY_DIR}/mpi_cli_work)
-    set_tests_properties(mpi_cli PROPERTIES TIMEOUT 600)
+    set_tests_properties(mpi_cli PROPERTIES TIMEOUT 600 ENVIRONMENT "${PNF_MPI_TEST_ENVIRONMENT}")
   endif()
 endif()
