@@ -4,9 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "pnf/error.hpp"
 
 #include "spatial/spatial_order.hpp"
 
@@ -46,6 +51,55 @@ TEST(SpatialIndex, MatchBruteForce) {
     EXPECT_EQ(got, brute_force(p, s, radius)) << "point " << s;
     EXPECT_TRUE(got.count(static_cast<std::uint32_t>(s))) << "point " << s << " is not its own neighbour";
   }
+}
+
+// The list searches ask their poll on the calling thread only, with a share done that grows
+// within [0, 1], and a false answer stops them with Error(cancelled). The lists a poll watched are
+// the lists without one.
+TEST(SpatialIndex, SearchesReportOnTheCallingThreadAndCancel) {
+  std::vector<double> p = random_points(20000, 5);
+  SpatialIndex search(p);
+  const double radius = 0.05;
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<double> seen;
+  bool other_thread = false;
+  const pnf::detail::WorkPoll watch = [&](double fraction) {
+    other_thread = other_thread || std::this_thread::get_id() != caller;
+    seen.push_back(fraction);
+    return true;
+  };
+  const std::vector<std::uint32_t> counts = search.count_within(radius, 0, 20000, watch);
+  EXPECT_EQ(counts, search.count_within(radius));
+  ASSERT_FALSE(seen.empty());  // the first block always asks
+  EXPECT_FALSE(other_thread);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_GE(seen.front(), 0.0);
+  EXPECT_LE(seen.back(), 1.0);
+  seen.clear();
+  const CsrLists watched = search.lists_within(radius, 0, 20000, counts, watch);
+  EXPECT_EQ(watched.indices, search.lists_within(radius, 0, 20000, counts).indices);
+  EXPECT_FALSE(seen.empty());
+  EXPECT_FALSE(other_thread);
+  seen.clear();
+  search.nearest_table(8, watch);
+  EXPECT_FALSE(seen.empty());
+  EXPECT_FALSE(other_thread);
+
+  const pnf::detail::WorkPoll cancel = [](double) { return false; };
+  const auto expect_cancelled = [](const std::function<void()>& body, const char* what) {
+    try {
+      body();
+      ADD_FAILURE() << what << " was not cancelled";
+    } catch (const pnf::Error& e) {
+      EXPECT_EQ(e.code(), pnf::ErrorCode::cancelled) << what << ": " << e.what();
+    }
+  };
+  expect_cancelled([&] { search.count_within(radius, 0, 20000, cancel); }, "count_within");
+  expect_cancelled([&] { search.lists_within(radius, 0, 20000, counts, cancel); }, "lists_within");
+  expect_cancelled([&] { search.nearest_table(8, cancel); }, "nearest_table");
+  // An exception thrown by the poll stops the workers and comes back as it was.
+  EXPECT_THROW(search.count_within(radius, 0, 20000, [](double) -> bool { throw std::logic_error("from poll"); }),
+               std::logic_error);
 }
 
 TEST(SpatialIndex, RadiusIsInclusive) {

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <string>
 
@@ -63,6 +65,52 @@ constexpr int kLeafMaxSize = 10;
 // distance buffers (16 bytes per neighbour) stay at a few tens of MB for any N; each block is large
 // enough to keep every thread busy.
 constexpr std::size_t kQueryBlock = std::size_t{1} << 16;
+
+// How often the calling thread asks a WorkPoll: often enough for a progress bar and a prompt
+// cancel, rarely enough that a Python callback (which takes the GIL) costs nothing measurable.
+constexpr double kPollSeconds = 0.2;
+
+using Clock = std::chrono::steady_clock;
+
+// Runs work(b) for b in [0, blocks) on all OpenMP threads, one block per grab (dynamic), while
+// the master thread (the calling thread) asks `poll` before its first block and then every
+// kPollSeconds between its own blocks.
+// A false answer, or an exception from poll, makes every thread stop at its next grab; then this
+// throws Error(cancelled), or rethrows the exception. `work` must not throw.
+template <typename Setup, typename Work>
+void parallel_blocks(std::size_t blocks, const WorkPoll& poll, Setup&& setup, Work&& work) {
+  std::atomic<std::size_t> next{0}, done{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr failure;
+  Clock::time_point last_poll{};  // long ago: the first grab asks, so even a short search can be cancelled
+#pragma omp parallel
+  {
+    auto state = setup();
+#ifdef _OPENMP
+    const bool polls = poll && omp_get_thread_num() == 0;
+#else
+    const bool polls = bool(poll);
+#endif
+    for (;;) {
+      if (polls && std::chrono::duration<double>(Clock::now() - last_poll).count() >= kPollSeconds) {
+        try {
+          if (!poll(double(done.load(std::memory_order_relaxed)) / double(blocks))) stop = true;
+        } catch (...) {
+          failure = std::current_exception();
+          stop = true;
+        }
+        last_poll = Clock::now();
+      }
+      if (stop.load(std::memory_order_relaxed)) break;
+      const std::size_t b = next.fetch_add(1, std::memory_order_relaxed);
+      if (b >= blocks) break;
+      work(state, b);
+      done.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  if (stop) throw Error(ErrorCode::cancelled, "cancelled while searching neighbours");
+}
 
 }  // namespace
 
@@ -125,52 +173,52 @@ std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
 // `visit` gets the point, the block's candidate ids and coordinates, and a scratch array as long
 // as the candidates.
 template <typename Visit>
-void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const {
+void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll,
+                                  Visit&& visit) const {
   const std::vector<std::size_t> starts = block_starts(radius);
   const std::size_t end = first + count;
   // Blocks that overlap [first, end).
   std::size_t b0 = std::upper_bound(starts.begin(), starts.end(), first) - starts.begin() - 1;
   std::size_t b1 = std::lower_bound(starts.begin(), starts.end(), end) - starts.begin();
   const flann::SearchParams params = exact_search();
-  const auto blocks = static_cast<std::int64_t>(b1 - b0);
-#pragma omp parallel
-  {
+  struct Scratch {
     std::vector<std::uint32_t> ids, scratch;
     std::vector<double> cx, cy, cz;
-#pragma omp for schedule(dynamic, 4)
-    for (std::int64_t b = 0; b < blocks; ++b) {
-      const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
-      double lo[3], hi[3], centre[3], half_diagonal2 = 0;
-      for (int k = 0; k < 3; ++k) lo[k] = hi[k] = positions_[3 * begin + k];
-      for (std::size_t i = begin; i < stop; ++i) {
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], positions_[3 * i + k]);
-          hi[k] = std::max(hi[k], positions_[3 * i + k]);
+  };
+  parallel_blocks(
+      b1 - b0, poll, [] { return Scratch{}; },
+      [&](Scratch& s, std::size_t b) {
+        const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
+        double lo[3], hi[3], centre[3], half_diagonal2 = 0;
+        for (int k = 0; k < 3; ++k) lo[k] = hi[k] = positions_[3 * begin + k];
+        for (std::size_t i = begin; i < stop; ++i) {
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], positions_[3 * i + k]);
+            hi[k] = std::max(hi[k], positions_[3 * i + k]);
+          }
         }
-      }
-      for (int k = 0; k < 3; ++k) {
-        centre[k] = 0.5 * (lo[k] + hi[k]);
-        half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
-      }
-      const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
-      ids.clear();
-      CollectingResultSet result(reach * reach, ids);
-      tree_->index.findNeighbors(result, centre, params);
-      std::sort(ids.begin(), ids.end());  // ascending ids: lists that walk memory forward
-      scratch.resize(ids.size());
-      cx.resize(ids.size());
-      cy.resize(ids.size());
-      cz.resize(ids.size());
-      for (std::size_t c = 0; c < ids.size(); ++c) {
-        cx[c] = positions_[3 * std::size_t(ids[c])];
-        cy[c] = positions_[3 * std::size_t(ids[c]) + 1];
-        cz[c] = positions_[3 * std::size_t(ids[c]) + 2];
-      }
-      for (std::size_t i = std::max(begin, first); i < std::min(stop, end); ++i) {
-        visit(i, ids, cx, cy, cz, scratch);
-      }
-    }
-  }
+        for (int k = 0; k < 3; ++k) {
+          centre[k] = 0.5 * (lo[k] + hi[k]);
+          half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        }
+        const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
+        s.ids.clear();
+        CollectingResultSet result(reach * reach, s.ids);
+        tree_->index.findNeighbors(result, centre, params);
+        std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
+        s.scratch.resize(s.ids.size());
+        s.cx.resize(s.ids.size());
+        s.cy.resize(s.ids.size());
+        s.cz.resize(s.ids.size());
+        for (std::size_t c = 0; c < s.ids.size(); ++c) {
+          s.cx[c] = positions_[3 * std::size_t(s.ids[c])];
+          s.cy[c] = positions_[3 * std::size_t(s.ids[c]) + 1];
+          s.cz[c] = positions_[3 * std::size_t(s.ids[c]) + 2];
+        }
+        for (std::size_t i = std::max(begin, first); i < std::min(stop, end); ++i) {
+          visit(i, s.ids, s.cx, s.cy, s.cz, s.scratch);
+        }
+      });
 }
 
 namespace {
@@ -184,10 +232,11 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius) const {
   return count_within(radius, 0, point_count_);
 }
 
-std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count) const {
+std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count,
+                                                      const WorkPoll& poll) const {
   std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
-  for_each_point(radius, first, count,
+  for_each_point(radius, first, count, poll,
                  [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
@@ -200,7 +249,7 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
 }
 
 CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_t count,
-                                       const std::vector<std::uint32_t>& counts) const {
+                                    const std::vector<std::uint32_t>& counts, const WorkPoll& poll) const {
   CsrLists lists;
   lists.first_point = first;
   lists.point_count = count;
@@ -208,19 +257,19 @@ CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_
   for (std::size_t k = 0; k < count; ++k) pairs += counts[first + k];
   lists.offsets.resize(count + 1);
   lists.indices.resize(pairs);
-  fill_lists(radius, first, count, counts, lists.offsets.data(), lists.indices.data());
+  fill_lists(radius, first, count, counts, lists.offsets.data(), lists.indices.data(), poll);
   return lists;
 }
 
 void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t count,
                                  const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
-                                 std::uint32_t* indices) const {
+                              std::uint32_t* indices, const WorkPoll& poll) const {
   offsets[0] = 0;
   for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double radius2 = radius * radius;
   std::atomic<bool> mismatch{false};
   for_each_point(
-      radius, first, count,
+      radius, first, count, poll,
       [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
           const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>& scratch) {
         const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
@@ -295,7 +344,7 @@ std::vector<double> SpatialIndex::mean_knn_distance(int k, std::size_t max_sampl
   return out;
 }
 
-NeighbourTable SpatialIndex::nearest_table(int k) const {
+NeighbourTable SpatialIndex::nearest_table(int k, const WorkPoll& poll) const {
   flann::SearchParams search;
   // Exact search; the single kd-tree is exact anyway, but say so rather than rely on it.
   search.checks = flann::FLANN_CHECKS_UNLIMITED;
@@ -323,7 +372,15 @@ NeighbourTable SpatialIndex::nearest_table(int k) const {
   // FLANN's query matrix is of non-const elements; it only reads them.
   double* queries_data = const_cast<double*>(positions_.data());
 
+  Clock::time_point last_poll{};  // the first block asks
   for (std::size_t first = 0; first < count; first += kQueryBlock) {
+    // FLANN spreads each block over the threads itself; between blocks this (calling) thread asks.
+    if (poll && std::chrono::duration<double>(Clock::now() - last_poll).count() >= kPollSeconds) {
+      if (!poll(double(first) / double(count))) {
+        throw Error(ErrorCode::cancelled, "cancelled while searching neighbours");
+      }
+      last_poll = Clock::now();
+    }
     const std::size_t rows = std::min(kQueryBlock, count - first);
     const flann::Matrix<double> queries(queries_data + first * 3, rows, 3);
     flann::Matrix<std::size_t> found_matrix(found.data(), rows, wanted);

@@ -6,12 +6,20 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
 #include "spatial/csr_lists.hpp"
 
 namespace pnf::detail {
+
+// Asked by the long searches below (count_within, fill_lists, lists_within, nearest_table) on the
+// calling thread only, about every kPollSeconds (spatial_index.cpp), with the share of the work
+// done in [0, 1]; returning false cancels: the worker threads stop at their next block and the
+// search throws pnf::Error(cancelled). An exception it throws stops the workers the same way and
+// is rethrown. Empty: never asked.
+using WorkPoll = std::function<bool(double fraction)>;
 
 // A kd-tree over N points, searched in parallel with OpenMP. All distances here are plain
 // Euclidean distances in model units unless a name says "squared"; FLANN's own squared
@@ -47,7 +55,7 @@ class SpatialIndex {
   // duplicates sit at distance 0 the point may come back in any slot or not at all; then the
   // farthest result is dropped instead. Runs on omp_get_max_threads() threads; the answer does
   // not depend on the count.
-  NeighbourTable nearest_table(int k) const;
+  NeighbourTable nearest_table(int k, const WorkPoll& poll = {}) const;
 
   // The k nearest points of point `point` (itself included when it is among them, which it is
   // unless k duplicates of it exist): ids[0 .. k) and their SQUARED distances, in no particular
@@ -69,7 +77,8 @@ class SpatialIndex {
   // Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
   // The same for points [first, first + count) only: count entries.
-  std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count) const;
+  std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count,
+                                          const WorkPoll& poll = {}) const;
 
   // An estimate of the sum of count_within(radius) from a sample of points spread through the
   // cloud: cheap when that sum is huge (cost: samples x neighbours), so a run can be refused
@@ -80,19 +89,19 @@ class SpatialIndex {
   // `counts` is what count_within returned for the same radius; it sizes the arrays before any
   // search runs.
   CsrLists lists_within(double radius, std::size_t first, std::size_t count,
-                        const std::vector<std::uint32_t>& counts) const;
+                        const std::vector<std::uint32_t>& counts, const WorkPoll& poll = {}) const;
 
   // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
   // count + 1 entries and `indices` the sum of counts[first .. first + count).
   void fill_lists(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts,
-                  std::uint64_t* offsets, std::uint32_t* indices) const;
+                  std::uint64_t* offsets, std::uint32_t* indices, const WorkPoll& poll = {}) const;
 
  private:
   struct Tree;
   // First point of each search block for `radius` (see the .cpp), then N.
   std::vector<std::size_t> block_starts(double radius) const;
   template <typename Visit>
-  void for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const;
+  void for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll, Visit&& visit) const;
 
   std::vector<double> positions_;
   std::size_t point_count_;
