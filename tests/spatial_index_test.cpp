@@ -102,6 +102,38 @@ TEST(SpatialIndex, SearchesReportOnTheCallingThreadAndCancel) {
                std::logic_error);
 }
 
+// Every scan variant (plain, target_clones, explicit AVX-512, other block sizes) gives the lists
+// of brute force, on an integer grid where many neighbours sit exactly on the radius (distances
+// of integer points are exact in double, so the inclusive test decides them) and each point has
+// far more than 16 candidates (the AVX-512 scans' step).
+TEST(SpatialIndex, EveryScanVariantGivesTheBruteForceLists) {
+  std::vector<double> p;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) p.insert(p.end(), {double(i) - 4.5, double(j) - 4.5, double(k) - 4.5});
+  const std::size_t n = p.size() / 3;
+  const double radius = 3.0;  // (3,0,0), (2,2,1) and their images lie exactly on it
+  SpatialIndex search(p);
+  std::vector<SpatialIndex::ListTuning> tunings(5);
+  tunings[1].avx512_scan = false;
+  tunings[2].avx512_scan = false;
+  tunings[2].wide_scan = false;
+  tunings[3].block_extent_in_radii = 0.5;
+  tunings[4].block_extent_in_radii = 1.5;
+  for (std::size_t t = 0; t < tunings.size(); ++t) {
+    search.set_list_tuning(tunings[t]);
+    const std::vector<std::uint32_t> counts = search.count_within(radius);
+    const CsrLists lists = search.lists_within(radius, 0, n, counts);
+    for (std::size_t s = 0; s < n; ++s) {
+      const std::set<std::uint32_t> want = brute_force(p, s, radius);
+      ASSERT_EQ(counts[s], want.size()) << "tuning " << t << ", point " << s;
+      const std::vector<std::uint32_t> got(lists.indices.begin() + lists.offsets[s],
+                                           lists.indices.begin() + lists.offsets[s + 1]);
+      ASSERT_EQ(got, std::vector<std::uint32_t>(want.begin(), want.end())) << "tuning " << t << ", point " << s;
+    }
+  }
+}
+
 TEST(SpatialIndex, RadiusIsInclusive) {
   // Integer grid, radius exactly 1: the 6 axis neighbours sit exactly on the boundary and belong.
   std::vector<double> p;

@@ -4,6 +4,9 @@
 // index type).
 #include <flann/algorithms/dist.h>
 #include <flann/algorithms/kdtree_single_index.h>
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -11,6 +14,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #ifdef _OPENMP
@@ -141,7 +145,7 @@ SpatialIndex::~SpatialIndex() = default;
 
 std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
   std::vector<std::size_t> starts;
-  const double max_extent = kBlockExtentInRadii * radius;
+  const double max_extent = tuning_.block_extent_in_radii * radius;
   std::size_t i = 0;
   while (i < point_count_) {
     starts.push_back(i);
@@ -206,7 +210,8 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
         CollectingResultSet result(reach * reach, s.ids);
         tree_->index.findNeighbors(result, centre, params);
         std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
-        s.scratch.resize(s.ids.size());
+        // The ids, then a flag byte each (the wide scan's), and 16 ids of room for the AVX-512 store.
+        s.scratch.resize(s.ids.size() + (s.ids.size() + 3) / 4 + 16);
         s.cx.resize(s.ids.size());
         s.cy.resize(s.ids.size());
         s.cz.resize(s.ids.size());
@@ -223,8 +228,107 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
 
 namespace {
 
-// SPEC's neighbourhood, |p - s| <= radius, inclusive, decided here and only here.
+// SPEC's neighbourhood, |p - s| <= radius, inclusive, decided here and only here (in the scans
+// below, which all inline it). The file is compiled without floating-point contraction
+// (-std=c++17 implies -ffp-contract=off on GCC), so every build and every instruction set below
+// rounds this expression the same way and gives the same lists.
 inline bool within(double dx, double dy, double dz, double radius2) { return dx * dx + dy * dy + dz * dz <= radius2; }
+
+// The candidates of a point: how many are within, and their within flags (1 or 0), both over
+// the block's candidate coordinates. Written once, built twice: plain (the build's baseline,
+// SSE2 on x86-64) and, through target_clones, for AVX-512 and AVX2 too, picked at load time by
+// the CPU (the loops are vectorised across candidates; 8 doubles a step with AVX-512).
+struct Candidates {
+  const double* x;
+  const double* y;
+  const double* z;
+  std::size_t size;
+};
+
+inline std::uint32_t count_scan_body(const Candidates& c, double px, double py, double pz, double radius2) {
+  std::uint32_t n = 0;
+  for (std::size_t k = 0; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+
+inline void flag_scan_body(const Candidates& c, double px, double py, double pz, double radius2,
+                           std::uint8_t* flags) {
+  for (std::size_t k = 0; k < c.size; ++k) flags[k] = within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define PNF_WIDE_SCAN __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define PNF_WIDE_SCAN
+#endif
+
+PNF_WIDE_SCAN std::uint32_t count_scan_wide(const Candidates& c, double px, double py, double pz, double radius2) {
+  return count_scan_body(c, px, py, pz, radius2);
+}
+std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double pz, double radius2) {
+  return count_scan_body(c, px, py, pz, radius2);
+}
+#if defined(__GNUC__) && defined(__x86_64__)
+#define PNF_HAVE_AVX512_SCAN 1
+// AVX-512 versions, 16 candidates a step: two 8-wide double tests (the same operations in the
+// same order as within(), so the same roundings) give a 16-bit mask; the count adds its bits,
+// the compaction packs the ids it selects with one in-register compress and a full-width store
+// (a compress straight to memory is microcoded and slow on some cores). `out` must have room
+// for 16 ids past the last one kept; the tail (under 16) goes through within() itself.
+__attribute__((target("avx512f"))) inline __mmask8 within8(const Candidates& c, std::size_t at, __m512d px,
+                                                             __m512d py, __m512d pz, __m512d radius2) {
+  const __m512d dx = _mm512_sub_pd(_mm512_loadu_pd(c.x + at), px);
+  const __m512d dy = _mm512_sub_pd(_mm512_loadu_pd(c.y + at), py);
+  const __m512d dz = _mm512_sub_pd(_mm512_loadu_pd(c.z + at), pz);
+  const __m512d d2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
+  return _mm512_cmp_pd_mask(d2, radius2, _CMP_LE_OQ);
+}
+
+__attribute__((target("avx512f"))) inline __mmask16 within16(const Candidates& c, std::size_t k, __m512d px,
+                                                               __m512d py, __m512d pz, __m512d radius2) {
+  return __mmask16(unsigned(within8(c, k, px, py, pz, radius2)) | (unsigned(within8(c, k + 8, px, py, pz, radius2)) << 8));
+}
+
+__attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candidates& c, double px, double py,
+                                                                     double pz, double radius2) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
+                vr = _mm512_set1_pd(radius2);
+  std::uint32_t n = 0;
+  std::size_t k = 0;
+  for (; k + 16 <= c.size; k += 16) n += std::uint32_t(__builtin_popcount(unsigned(within16(c, k, vx, vy, vz, vr))));
+  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+
+__attribute__((target("avx512f"))) std::size_t compact_scan_avx512(const Candidates& c, const std::uint32_t* ids,
+                                                                     double px, double py, double pz, double radius2,
+                                                                     std::uint32_t* out) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
+                vr = _mm512_set1_pd(radius2);
+  std::size_t written = 0, k = 0;
+  for (; k + 16 <= c.size; k += 16) {
+    const __mmask16 keep = within16(c, k, vx, vy, vz, vr);
+    const __m512i packed = _mm512_maskz_compress_epi32(keep, _mm512_loadu_si512(ids + k));
+    _mm512_storeu_si512(out + written, packed);
+    written += std::size_t(__builtin_popcount(unsigned(keep)));
+  }
+  for (; k < c.size; ++k) {
+    out[written] = ids[k];
+    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  }
+  return written;
+}
+
+bool cpu_has_avx512() {
+  static const bool has = __builtin_cpu_supports("avx512f");
+  return has;
+}
+#endif
+
+PNF_WIDE_SCAN void flag_scan_wide(const Candidates& c, double px, double py, double pz, double radius2,
+                                  std::uint8_t* flags) {
+  flag_scan_body(c, px, py, pz, radius2, flags);
+}
 
 }  // namespace
 
@@ -240,12 +344,26 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
                  [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
-                   std::uint32_t n = 0;
-                   for (std::size_t c = 0; c < ids.size(); ++c)
-                     n += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
-                   counts[i - first] = n;
+                   const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
+#ifdef PNF_HAVE_AVX512_SCAN
+                   if (tuning_.avx512_scan && cpu_has_avx512()) {
+                     counts[i - first] = count_scan_avx512(c, px, py, pz, radius2);
+                     return;
+                   }
+#endif
+                   counts[i - first] = tuning_.wide_scan ? count_scan_wide(c, px, py, pz, radius2)
+                                                         : count_scan_plain(c, px, py, pz, radius2);
                  });
   return counts;
+}
+
+std::size_t SpatialIndex::candidates_scanned(double radius, std::size_t first, std::size_t count) const {
+  std::vector<std::uint32_t> scanned(count);
+  for_each_point(radius, first, count, {},
+                 [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>&,
+                     const std::vector<double>&, const std::vector<double>&,
+                     std::vector<std::uint32_t>&) { scanned[i - first] = std::uint32_t(ids.size()); });
+  return std::accumulate(scanned.begin(), scanned.end(), std::size_t(0));
 }
 
 CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_t count,
@@ -274,11 +392,31 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
           const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>& scratch) {
         const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
         // Branch-free compaction into scratch (a member or not is a coin toss near the
-        // boundary, which a branch predicts badly), then one copy into the list.
+        // boundary, which a branch predicts badly), then one copy into the list. The wide scan
+        // first writes the within flags in a vectorised loop, then compacts by them.
         std::size_t written = 0;
-        for (std::size_t c = 0; c < ids.size(); ++c) {
-          scratch[written] = ids[c];
-          written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+#ifdef PNF_HAVE_AVX512_SCAN
+        const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
+#else
+        const bool avx512 = false;
+#endif
+        if (avx512) {
+#ifdef PNF_HAVE_AVX512_SCAN
+          written = compact_scan_avx512(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, ids.data(), px, py,
+                                        pz, radius2, scratch.data());
+#endif
+        } else if (tuning_.wide_scan) {
+          std::uint8_t* flags = reinterpret_cast<std::uint8_t*>(scratch.data() + ids.size());
+          flag_scan_wide(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, px, py, pz, radius2, flags);
+          for (std::size_t c = 0; c < ids.size(); ++c) {
+            scratch[written] = ids[c];
+            written += flags[c];
+          }
+        } else {
+          for (std::size_t c = 0; c < ids.size(); ++c) {
+            scratch[written] = ids[c];
+            written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+          }
         }
         const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
         if (written != capacity) {

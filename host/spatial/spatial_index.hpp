@@ -27,6 +27,19 @@ using WorkPoll = std::function<bool(double fraction)>;
 // Every search is exact (no approximation). Thread safety: const methods may run concurrently.
 class SpatialIndex {
  public:
+  // How the list searches (count_within, fill_lists) scan their candidates. For bench/ to compare
+  // variants on one machine in one run; the defaults are the measured best (docs/performance.md).
+  // Every variant gives the same lists: the exact test is the same double expression.
+  struct ListTuning {
+    double block_extent_in_radii = 1.0;  // a search block's largest extent along an axis, in radii
+    bool wide_scan = true;  // the scans built for AVX-512 / AVX2 as well, chosen at run time
+    bool avx512_scan = true;  // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
+  };
+  void set_list_tuning(const ListTuning& tuning) { tuning_ = tuning; }
+  // The candidates the list searches for `radius` test over points [first, first + count), for
+  // bench/: their sum divided by the pairs is the candidates scanned per neighbour.
+  std::size_t candidates_scanned(double radius, std::size_t first, std::size_t count) const;
+
   // How the points are laid out in memory; it sets whether the tree keeps its own copy.
   enum class Layout {
     // Points already sorted along a space-filling curve (morton_order): neighbours sit near each
@@ -105,6 +118,7 @@ class SpatialIndex {
 
   std::vector<double> positions_;
   std::size_t point_count_;
+  ListTuning tuning_;
   std::unique_ptr<Tree> tree_;
 };
 
