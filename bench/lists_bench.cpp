@@ -31,6 +31,7 @@ double median(std::vector<double> v) {
 struct Variant {
   std::string name;
   detail::SpatialIndex::ListTuning tuning;
+  bool keep = false;  // the count keeps the blocks' candidates for the fill
   std::vector<double> count_s, fill_s;
 };
 
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "rounds (default 5)");
   app.add_option("--variants", names,
                  "base (plain scans, blocks 1 radius), wide (AVX-512/AVX2 scans), wide-half, wide-1.5 "
-                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half")
+                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half, keep (avx512, the count keeps the blocks' "
+                 "candidates for the fill)")
       ->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
@@ -77,6 +79,8 @@ int main(int argc, char** argv) {
     v.tuning.wide_scan = name != "base";
     v.tuning.avx512_scan = name.rfind("avx512", 0) == 0;
     if (name == "avx512-half") v.tuning.block_extent_in_radii = 0.5;
+    v.keep = name == "keep";
+    if (v.keep) v.tuning.avx512_scan = true;
     if (name == "wide-half") v.tuning.block_extent_in_radii = 0.5;
     if (name == "wide-1.5") v.tuning.block_extent_in_radii = 1.5;
     variants.push_back(v);
@@ -90,7 +94,8 @@ int main(int argc, char** argv) {
     for (Variant& v : variants) {
       search.set_list_tuning(v.tuning);
       auto t = Clock::now();
-      counts = search.count_within(reach);
+      detail::BlockCandidates candidates;
+      counts = search.count_within(reach, 0, n, {}, v.keep ? &candidates : nullptr);
       const double count_s = std::chrono::duration<double>(Clock::now() - t).count();
       // Into storage allocated and touched once (round -1), as the device buffer is reused by
       // a run's passes: the fill's own cost, without the first touch of 1.3 GB of pages.
@@ -98,7 +103,11 @@ int main(int argc, char** argv) {
       offsets.resize(n + 1);
       indices.resize(pairs);
       t = Clock::now();
-      search.fill_lists(reach, 0, n, counts, offsets.data(), indices.data());
+      search.fill_lists(reach, 0, n, counts, offsets.data(), indices.data(), {}, v.keep ? &candidates : nullptr);
+      if (r < 0 && v.keep) {
+        std::fprintf(stderr, "%s: %s candidates kept, %.1f MB\n", v.name.c_str(),
+                     candidates.covers(reach, 0, n) ? "all" : "no", double(candidates.bytes()) / 1e6);
+      }
       const double fill_s = std::chrono::duration<double>(Clock::now() - t).count();
       if (r < 0) {
         if (first_indices.empty()) {
@@ -143,8 +152,12 @@ int main(int argc, char** argv) {
     detail::SpatialIndex::ListTuning tuning;
     tuning.block_extent_in_radii = extent;
     search.set_list_tuning(tuning);
-    std::printf("blocks %.1f radii across: %.2f candidates scanned per neighbour\n", extent,
-                double(search.candidates_scanned(reach, 0, n)) / double(lists.indices.size()));
+    const auto t = Clock::now();
+    const double scanned = double(search.candidates_scanned(reach, 0, n));
+    std::printf("blocks %.1f radii across: %.2f candidates scanned per neighbour; the searches alone (FLANN, sort, "
+                "gather) %.3f s\n",
+                extent, scanned / double(lists.indices.size()),
+                std::chrono::duration<double>(Clock::now() - t).count());
   }
   std::printf("lists: %.0f pairs, %.1f per point; runs of consecutive ids: %.1f per list, mean length %.2f\n", pairs,
               pairs / double(n), double(runs) / double(n), pairs / double(runs));

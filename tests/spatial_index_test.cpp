@@ -134,6 +134,33 @@ TEST(SpatialIndex, EveryScanVariantGivesTheBruteForceLists) {
   }
 }
 
+// Candidates kept by the count give the fill the same lists, for the whole range and for a chunk
+// inside it; they do not claim to cover another radius or a range outside the count's.
+TEST(SpatialIndex, KeptCandidatesGiveTheSameLists) {
+  std::vector<double> p = random_points(5000, 3);
+  SpatialIndex search(p);
+  const double radius = 0.07;
+  pnf::detail::BlockCandidates kept;
+  const std::vector<std::uint32_t> counts = search.count_within(radius, 0, 5000, {}, &kept);
+  EXPECT_EQ(counts, search.count_within(radius));
+  ASSERT_TRUE(kept.covers(radius, 0, 5000));
+  EXPECT_FALSE(kept.covers(radius * 1.01, 0, 5000));
+  EXPECT_GT(kept.bytes(), 0u);
+  for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, 5000}, {1234, 2000}}) {
+    std::vector<std::uint32_t> sub(counts.begin(), counts.end());
+    const CsrLists want = search.lists_within(radius, first, count, sub);
+    std::vector<std::uint64_t> offsets(count + 1);
+    std::vector<std::uint32_t> indices(want.indices.size());
+    search.fill_lists(radius, first, count, counts, offsets.data(), indices.data(), {}, &kept);
+    EXPECT_EQ(indices, want.indices) << "chunk at " << first;
+    EXPECT_EQ(offsets, want.offsets) << "chunk at " << first;
+  }
+  pnf::detail::BlockCandidates part;
+  search.count_within(radius, 1000, 1000, {}, &part);
+  EXPECT_TRUE(part.covers(radius, 1200, 500));
+  EXPECT_FALSE(part.covers(radius, 500, 1000));
+}
+
 TEST(SpatialIndex, RadiusIsInclusive) {
   // Integer grid, radius exactly 1: the 6 axis neighbours sit exactly on the boundary and belong.
   std::vector<double> p;

@@ -178,19 +178,46 @@ std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
 // as the candidates.
 template <typename Visit>
 void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll,
-                                  Visit&& visit) const {
+                                  Visit&& visit, const BlockCandidates* reuse, BlockCandidates* keep) const {
   const std::vector<std::size_t> starts = block_starts(radius);
   const std::size_t end = first + count;
   // Blocks that overlap [first, end).
   std::size_t b0 = std::upper_bound(starts.begin(), starts.end(), first) - starts.begin() - 1;
   std::size_t b1 = std::lower_bound(starts.begin(), starts.end(), end) - starts.begin();
   const flann::SearchParams params = exact_search();
+  if (reuse && !(reuse->covers(radius, first, count) && reuse->block_extent_ == tuning_.block_extent_in_radii)) {
+    reuse = nullptr;
+  }
+  std::atomic<std::size_t> kept{0};
+  std::atomic<bool> overflow{false};
+  if (keep) {
+    *keep = BlockCandidates{};
+    keep->radius_ = radius;
+    keep->block_extent_ = tuning_.block_extent_in_radii;
+    keep->first_ = first;
+    keep->count_ = count;
+    keep->first_block_ = b0;
+    keep->where_.resize(b1 - b0);
+#ifdef _OPENMP
+    keep->ids_.resize(std::size_t(omp_get_max_threads()));
+#else
+    keep->ids_.resize(1);
+#endif
+  }
   struct Scratch {
     std::vector<std::uint32_t> ids, scratch;
     std::vector<double> cx, cy, cz;
+    std::uint32_t thread = 0;
   };
   parallel_blocks(
-      b1 - b0, poll, [] { return Scratch{}; },
+      b1 - b0, poll,
+      [] {
+        Scratch s;
+#ifdef _OPENMP
+        s.thread = std::uint32_t(omp_get_thread_num());
+#endif
+        return s;
+      },
       [&](Scratch& s, std::size_t b) {
         const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
         double lo[3], hi[3], centre[3], half_diagonal2 = 0;
@@ -205,11 +232,26 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
           centre[k] = 0.5 * (lo[k] + hi[k]);
           half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
         }
-        const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
-        s.ids.clear();
-        CollectingResultSet result(reach * reach, s.ids);
-        tree_->index.findNeighbors(result, centre, params);
-        std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
+        if (reuse) {
+          const BlockCandidates::Where& w = reuse->where_[b0 + b - reuse->first_block_];
+          const std::uint32_t* from = reuse->ids_[w.thread].data() + w.offset;
+          s.ids.assign(from, from + w.size);
+        } else {
+          const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
+          s.ids.clear();
+          CollectingResultSet result(reach * reach, s.ids);
+          tree_->index.findNeighbors(result, centre, params);
+          std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
+        }
+        if (keep && !overflow.load(std::memory_order_relaxed)) {
+          if (kept.fetch_add(s.ids.size(), std::memory_order_relaxed) + s.ids.size() > BlockCandidates::kMaxIds) {
+            overflow = true;
+          } else {
+            std::vector<std::uint32_t>& mine = keep->ids_[s.thread];
+            keep->where_[b] = {s.thread, std::uint32_t(s.ids.size()), mine.size()};
+            mine.insert(mine.end(), s.ids.begin(), s.ids.end());
+          }
+        }
         // The ids, then a flag byte each (the wide scan's), and 16 ids of room for the AVX-512 store.
         s.scratch.resize(s.ids.size() + (s.ids.size() + 3) / 4 + 16);
         s.cx.resize(s.ids.size());
@@ -224,6 +266,16 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
           visit(i, s.ids, s.cx, s.cy, s.cz, s.scratch);
         }
       });
+  if (keep) {
+    keep->complete_ = !overflow;
+    if (overflow) *keep = BlockCandidates{};
+  }
+}
+
+std::size_t BlockCandidates::bytes() const {
+  std::size_t ids = 0;
+  for (const auto& v : ids_) ids += v.capacity();
+  return ids * sizeof(std::uint32_t) + where_.capacity() * sizeof(Where);
 }
 
 namespace {
@@ -337,7 +389,7 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius) const {
 }
 
 std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count,
-                                                      const WorkPoll& poll) const {
+                                                      const WorkPoll& poll, BlockCandidates* keep) const {
   std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
   for_each_point(radius, first, count, poll,
@@ -353,7 +405,8 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
 #endif
                    counts[i - first] = tuning_.wide_scan ? count_scan_wide(c, px, py, pz, radius2)
                                                          : count_scan_plain(c, px, py, pz, radius2);
-                 });
+                 },
+                 nullptr, keep);
   return counts;
 }
 
@@ -381,7 +434,7 @@ CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_
 
 void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t count,
                                  const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
-                              std::uint32_t* indices, const WorkPoll& poll) const {
+                              std::uint32_t* indices, const WorkPoll& poll, const BlockCandidates* reuse) const {
   offsets[0] = 0;
   for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double radius2 = radius * radius;
@@ -424,7 +477,8 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
           return;
         }
         std::copy(scratch.begin(), scratch.begin() + written, indices + offsets[i - first]);
-      });
+      },
+      reuse);
   if (mismatch) {
     // The same exact test ran twice on the same data; a different count is a bug, not bad data.
     throw Error(ErrorCode::invalid_input, "internal error: neighbour search gave different counts on two runs");

@@ -25,6 +25,39 @@ using WorkPoll = std::function<bool(double fraction)>;
 // Euclidean distances in model units unless a name says "squared"; FLANN's own squared
 // distances stay inside the .cpp except where a parameter is named squared_distances.
 // Every search is exact (no approximation). Thread safety: const methods may run concurrently.
+class SpatialIndex;
+
+// The candidates of each search block of one list search (see spatial_index.cpp), kept by
+// count_within for fill_lists, so that the fill (and, in a chunked run, every pass's refill)
+// does not search the tree and sort again: on the dog setting those searches are half of
+// count + fill (docs/performance.md). Blocks of up to 256 points share one candidate set, so it
+// takes about 1% of the lists' memory (12 MB for the dog's 1.3 GB); at most kMaxIds ids are kept,
+// beyond that nothing is and the fill searches as before. Same lists either way.
+class BlockCandidates {
+ public:
+  static constexpr std::size_t kMaxIds = std::size_t(1) << 25;  // 128 MB
+  // Whether a search for `radius` over points [first, first + count) can use these.
+  bool covers(double radius, std::size_t first, std::size_t count) const {
+    return complete_ && radius == radius_ && first >= first_ && first + count <= first_ + count_;
+  }
+  std::size_t bytes() const;
+
+ private:
+  friend class SpatialIndex;
+  struct Where {
+    std::uint32_t thread = 0;
+    std::uint32_t size = 0;
+    std::uint64_t offset = 0;
+  };
+  bool complete_ = false;
+  double radius_ = 0;
+  double block_extent_ = 0;
+  std::size_t first_ = 0, count_ = 0;
+  std::size_t first_block_ = 0;                  // global index of where_[0]
+  std::vector<Where> where_;                     // per block
+  std::vector<std::vector<std::uint32_t>> ids_;  // per thread, each block's sorted ids in turn
+};
+
 class SpatialIndex {
  public:
   // How the list searches (count_within, fill_lists) scan their candidates. For bench/ to compare
@@ -90,8 +123,9 @@ class SpatialIndex {
   // Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
   // The same for points [first, first + count) only: count entries.
+  // With `keep`, the blocks' candidates are kept there for fill_lists (see BlockCandidates).
   std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count,
-                                          const WorkPoll& poll = {}) const;
+                                          const WorkPoll& poll = {}, BlockCandidates* keep = nullptr) const;
 
   // An estimate of the sum of count_within(radius) from a sample of points spread through the
   // cloud: cheap when that sum is huge (cost: samples x neighbours), so a run can be refused
@@ -107,14 +141,16 @@ class SpatialIndex {
   // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
   // count + 1 entries and `indices` the sum of counts[first .. first + count).
   void fill_lists(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts,
-                  std::uint64_t* offsets, std::uint32_t* indices, const WorkPoll& poll = {}) const;
+                  std::uint64_t* offsets, std::uint32_t* indices, const WorkPoll& poll = {},
+                  const BlockCandidates* reuse = nullptr) const;
 
  private:
   struct Tree;
   // First point of each search block for `radius` (see the .cpp), then N.
   std::vector<std::size_t> block_starts(double radius) const;
   template <typename Visit>
-  void for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll, Visit&& visit) const;
+  void for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll, Visit&& visit,
+                      const BlockCandidates* reuse = nullptr, BlockCandidates* keep = nullptr) const;
 
   std::vector<double> positions_;
   std::size_t point_count_;
