@@ -252,8 +252,7 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
             mine.insert(mine.end(), s.ids.begin(), s.ids.end());
           }
         }
-        // The ids, then a flag byte each (the wide scan's), and 16 ids of room for the AVX-512 store.
-        s.scratch.resize(s.ids.size() + (s.ids.size() + 3) / 4 + 16);
+        s.scratch.resize(s.ids.size() + 16);  // 16 ids of room for the AVX-512 compaction's full-width store
         s.cx.resize(s.ids.size());
         s.cy.resize(s.ids.size());
         s.cz.resize(s.ids.size());
@@ -286,10 +285,9 @@ namespace {
 // rounds this expression the same way and gives the same lists.
 inline bool within(double dx, double dy, double dz, double radius2) { return dx * dx + dy * dy + dz * dz <= radius2; }
 
-// The candidates of a point: how many are within, and their within flags (1 or 0), both over
-// the block's candidate coordinates. Written once, built twice: plain (the build's baseline,
-// SSE2 on x86-64) and, through target_clones, for AVX-512 and AVX2 too, picked at load time by
-// the CPU (the loops are vectorised across candidates; 8 doubles a step with AVX-512).
+// How many of a point's candidates are within. Written once, built twice: plain (the build's
+// baseline, SSE2 on x86-64) and, through target_clones, for AVX-512 and AVX2 too, picked at load
+// time by the CPU (the loop is vectorised across candidates).
 struct Candidates {
   const double* x;
   const double* y;
@@ -301,11 +299,6 @@ inline std::uint32_t count_scan_body(const Candidates& c, double px, double py, 
   std::uint32_t n = 0;
   for (std::size_t k = 0; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
   return n;
-}
-
-inline void flag_scan_body(const Candidates& c, double px, double py, double pz, double radius2,
-                           std::uint8_t* flags) {
-  for (std::size_t k = 0; k < c.size; ++k) flags[k] = within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
 }
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
@@ -377,10 +370,6 @@ bool cpu_has_avx512() {
 }
 #endif
 
-PNF_WIDE_SCAN void flag_scan_wide(const Candidates& c, double px, double py, double pz, double radius2,
-                                  std::uint8_t* flags) {
-  flag_scan_body(c, px, py, pz, radius2, flags);
-}
 
 }  // namespace
 
@@ -445,8 +434,7 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
           const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>& scratch) {
         const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
         // Branch-free compaction into scratch (a member or not is a coin toss near the
-        // boundary, which a branch predicts badly), then one copy into the list. The wide scan
-        // first writes the within flags in a vectorised loop, then compacts by them.
+        // boundary, which a branch predicts badly), then one copy into the list.
         std::size_t written = 0;
 #ifdef PNF_HAVE_AVX512_SCAN
         const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
@@ -458,14 +446,9 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
           written = compact_scan_avx512(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, ids.data(), px, py,
                                         pz, radius2, scratch.data());
 #endif
-        } else if (tuning_.wide_scan) {
-          std::uint8_t* flags = reinterpret_cast<std::uint8_t*>(scratch.data() + ids.size());
-          flag_scan_wide(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, px, py, pz, radius2, flags);
-          for (std::size_t c = 0; c < ids.size(); ++c) {
-            scratch[written] = ids[c];
-            written += flags[c];
-          }
         } else {
+          // Plain even where wide_scan is set: the auto-vectorised flags-then-compact variant
+          // lost to this loop on the dog (docs/performance.md).
           for (std::size_t c = 0; c < ids.size(); ++c) {
             scratch[written] = ids[c];
             written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);

@@ -29,13 +29,14 @@ class SpatialIndex;
 
 // The candidates of each search block of one list search (see spatial_index.cpp), kept by
 // count_within for fill_lists, so that the fill (and, in a chunked run, every pass's refill)
-// does not search the tree and sort again: on the dog setting those searches are half of
-// count + fill (docs/performance.md). Blocks of up to 256 points share one candidate set, so it
-// takes about 1% of the lists' memory (12 MB for the dog's 1.3 GB); at most kMaxIds ids are kept,
-// beyond that nothing is and the fill searches as before. Same lists either way.
+// does not search the tree and sort again: on the dog setting those searches are about 2/3 of
+// the count (docs/performance.md). Blocks of up to 256 points share one candidate set, so it
+// takes about 3% of the lists' memory (44 MB for the dog's 1.3 GB, 220 MB for the 2M-point
+// sigma_f 8 cloud's 6.5 GB); at most kMaxIds ids are kept, beyond that nothing is and the fill
+// searches as before. Same lists either way. The engine counts them against its memory budget.
 class BlockCandidates {
  public:
-  static constexpr std::size_t kMaxIds = std::size_t(1) << 25;  // 128 MB
+  static constexpr std::size_t kMaxIds = std::size_t(1) << 27;  // 512 MB
   // Whether a search for `radius` over points [first, first + count) can use these.
   bool covers(double radius, std::size_t first, std::size_t count) const {
     return complete_ && radius == radius_ && first >= first_ && first + count <= first_ + count_;
@@ -65,7 +66,7 @@ class SpatialIndex {
   // Every variant gives the same lists: the exact test is the same double expression.
   struct ListTuning {
     double block_extent_in_radii = 1.0;  // a search block's largest extent along an axis, in radii
-    bool wide_scan = true;  // the scans built for AVX-512 / AVX2 as well, chosen at run time
+    bool wide_scan = true;  // the count's scan built for AVX-512 / AVX2 as well, chosen at run time
     bool avx512_scan = true;  // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
   };
   void set_list_tuning(const ListTuning& tuning) { tuning_ = tuning; }
