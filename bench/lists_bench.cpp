@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "rounds (default 5)");
   app.add_option("--variants", names,
                  "base (plain scans, blocks 1 radius), wide (AVX-512/AVX2 scans), wide-half, wide-1.5 "
-                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half, keep (avx512, the count keeps the blocks' "
+                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half, keep "
+                 "(avx512, the count keeps the blocks' "
                  "candidates for the fill)")
       ->delimiter(',');
   app.add_option("--chunk", chunk,
@@ -107,8 +108,8 @@ int main(int argc, char** argv) {
       const std::size_t step = chunk > 0 ? std::min(chunk, n) : n;
       std::size_t largest = 0;
       for (std::size_t at = 0; at < n; at += step) {
-        largest = std::max(largest, std::accumulate(counts.begin() + at, counts.begin() + std::min(n, at + step),
-                                                    std::size_t(0)));
+        largest = std::max(
+            largest, std::accumulate(counts.begin() + at, counts.begin() + std::min(n, at + step), std::size_t(0)));
       }
       offsets.resize(step + 1);
       indices.resize(largest);
@@ -117,7 +118,8 @@ int main(int argc, char** argv) {
       for (std::size_t at = 0; at < n; at += step) {
         const std::size_t m = std::min(step, n - at);
         search.fill_lists(reach, at, m, counts, offsets.data(), indices.data(), {}, v.keep ? &candidates : nullptr);
-        if (chunk > 0 && r < 0) checksum += std::accumulate(indices.begin(), indices.begin() + offsets[m], std::uint64_t(0));
+        if (chunk > 0 && r < 0)
+          checksum += std::accumulate(indices.begin(), indices.begin() + offsets[m], std::uint64_t(0));
       }
       const double fill_s = std::chrono::duration<double>(Clock::now() - t).count();
       if (chunk > 0) indices.assign(1, std::uint32_t(checksum));  // compared across variants below
@@ -171,10 +173,10 @@ int main(int argc, char** argv) {
     search.set_list_tuning(tuning);
     const auto t = Clock::now();
     const double scanned = double(search.candidates_scanned(reach, 0, n));
-    std::printf("blocks %.1f radii across: %.2f candidates scanned per neighbour; the searches alone (FLANN, sort, "
-                "gather) %.3f s\n",
-                extent, scanned / double(lists.indices.size()),
-                std::chrono::duration<double>(Clock::now() - t).count());
+    std::printf(
+        "blocks %.1f radii across: %.2f candidates scanned per neighbour; the searches alone (FLANN, sort, "
+        "gather) %.3f s\n",
+        extent, scanned / double(lists.indices.size()), std::chrono::duration<double>(Clock::now() - t).count());
   }
   std::printf("lists: %.0f pairs, %.1f per point; runs of consecutive ids: %.1f per list, mean length %.2f\n", pairs,
               pairs / double(n), double(runs) / double(n), pairs / double(runs));

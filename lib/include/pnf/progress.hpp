@@ -24,8 +24,8 @@ enum class ProgressStage {
 // pnf::Error(cancelled) and writes nothing. Fields added after pass, passes and seconds have
 // defaults, so PassProgress{pass, passes, seconds} still means a finished pass.
 struct PassProgress {
-  int pass = 0;    // stage pass: 1-based pass just finished; other stages: passes finished so far
-  int passes = 0;  // total passes (0 in estimate_normals)
+  int pass = 0;        // stage pass: 1-based pass just finished; other stages: passes finished so far
+  int passes = 0;      // total passes (0 in estimate_normals)
   double seconds = 0;  // stage pass: that pass's wall time; other stages: time spent in the stage so far
   ProgressStage stage = ProgressStage::pass;
   double fraction = 1;  // share of this stage's work done, in [0, 1]; 1 for a finished pass
