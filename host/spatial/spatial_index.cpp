@@ -197,27 +197,15 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
     keep->first_ = first;
     keep->count_ = count;
     keep->first_block_ = b0;
-    keep->where_.resize(b1 - b0);
-#ifdef _OPENMP
-    keep->ids_.resize(std::size_t(omp_get_max_threads()));
-#else
-    keep->ids_.resize(1);
-#endif
+    keep->blocks_.resize(b1 - b0);
   }
   struct Scratch {
     std::vector<std::uint32_t> ids, scratch;
     std::vector<double> cx, cy, cz;
-    std::uint32_t thread = 0;
   };
   parallel_blocks(
       b1 - b0, poll,
-      [] {
-        Scratch s;
-#ifdef _OPENMP
-        s.thread = std::uint32_t(omp_get_thread_num());
-#endif
-        return s;
-      },
+      [] { return Scratch{}; },
       [&](Scratch& s, std::size_t b) {
         const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
         double lo[3], hi[3], centre[3], half_diagonal2 = 0;
@@ -233,9 +221,8 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
           half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
         }
         if (reuse) {
-          const BlockCandidates::Where& w = reuse->where_[b0 + b - reuse->first_block_];
-          const std::uint32_t* from = reuse->ids_[w.thread].data() + w.offset;
-          s.ids.assign(from, from + w.size);
+          const std::vector<std::uint32_t>& kept_ids = reuse->blocks_[b0 + b - reuse->first_block_];
+          s.ids.assign(kept_ids.begin(), kept_ids.end());
         } else {
           const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
           s.ids.clear();
@@ -247,9 +234,7 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
           if (kept.fetch_add(s.ids.size(), std::memory_order_relaxed) + s.ids.size() > BlockCandidates::kMaxIds) {
             overflow = true;
           } else {
-            std::vector<std::uint32_t>& mine = keep->ids_[s.thread];
-            keep->where_[b] = {s.thread, std::uint32_t(s.ids.size()), mine.size()};
-            mine.insert(mine.end(), s.ids.begin(), s.ids.end());
+            keep->blocks_[b] = s.ids;  // one exact allocation a block, no growing vector to copy
           }
         }
         s.scratch.resize(s.ids.size() + 16);  // 16 ids of room for the AVX-512 compaction's full-width store
@@ -273,8 +258,8 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
 
 std::size_t BlockCandidates::bytes() const {
   std::size_t ids = 0;
-  for (const auto& v : ids_) ids += v.capacity();
-  return ids * sizeof(std::uint32_t) + where_.capacity() * sizeof(Where);
+  for (const auto& v : blocks_) ids += v.capacity();
+  return ids * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(blocks_[0]);
 }
 
 namespace {

@@ -45,18 +45,12 @@ class BlockCandidates {
 
  private:
   friend class SpatialIndex;
-  struct Where {
-    std::uint32_t thread = 0;
-    std::uint32_t size = 0;
-    std::uint64_t offset = 0;
-  };
   bool complete_ = false;
   double radius_ = 0;
   double block_extent_ = 0;
   std::size_t first_ = 0, count_ = 0;
-  std::size_t first_block_ = 0;                  // global index of where_[0]
-  std::vector<Where> where_;                     // per block
-  std::vector<std::vector<std::uint32_t>> ids_;  // per thread, each block's sorted ids in turn
+  std::size_t first_block_ = 0;                     // global index of blocks_[0]
+  std::vector<std::vector<std::uint32_t>> blocks_;  // per block, its sorted candidate ids
 };
 
 class SpatialIndex {
