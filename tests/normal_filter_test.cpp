@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <thread>
 
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
@@ -208,18 +210,46 @@ TEST_P(NormalFilterTest, ProgressIsReportedPerPassAndCanCancel) {
   FilterParams params;
   params.iterations = 3;
   std::vector<int> seen;
+  std::vector<double> list_fractions;
+  const std::thread::id caller = std::this_thread::get_id();
   filter->run(ball, params, [&](const pnf::PassProgress& p) {
     EXPECT_EQ(p.passes, 3);
-    seen.push_back(p.pass);
+    EXPECT_EQ(std::this_thread::get_id(), caller) << "reported from a worker thread";
+    if (p.stage == pnf::ProgressStage::lists) {
+      EXPECT_TRUE(seen.empty()) << "lists reported after a pass of an in-memory run";
+      EXPECT_EQ(p.pass, 0);
+      list_fractions.push_back(p.fraction);
+    } else {
+      EXPECT_EQ(p.stage, pnf::ProgressStage::pass);
+      EXPECT_EQ(p.fraction, 1.0);
+      seen.push_back(p.pass);
+    }
     return true;
   });
   EXPECT_EQ(seen, (std::vector<int>{1, 2, 3}));
+  ASSERT_FALSE(list_fractions.empty());
+  EXPECT_TRUE(std::is_sorted(list_fractions.begin(), list_fractions.end()));
+  EXPECT_EQ(list_fractions.back(), 1.0);  // the build's end is always reported
   try {
     filter->run(ball, params, [](const pnf::PassProgress& p) { return p.pass < 2; });
     FAIL() << "not cancelled";
   } catch (const pnf::Error& e) {
     EXPECT_EQ(e.code(), pnf::ErrorCode::cancelled);
   }
+  // Cancelled while the lists are built: no pass runs, the output is not written.
+  std::vector<Vec3> out(ball.size(), Vec3{7, 7, 7});
+  int passes_reported = 0;
+  try {
+    filter->run(pnf::CloudView(ball), pnf::MutableVec3ArrayView(out), params, [&](const pnf::PassProgress& p) {
+      passes_reported += p.stage == pnf::ProgressStage::pass;
+      return p.stage != pnf::ProgressStage::lists;
+    });
+    FAIL() << "not cancelled";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::cancelled) << e.what();
+  }
+  EXPECT_EQ(passes_reported, 0);
+  for (const Vec3& n : out) EXPECT_EQ(n, (Vec3{7, 7, 7}));
 }
 
 TEST_P(NormalFilterTest, RadiusPropertyAndGivenRadiusSetTheScale) {

@@ -4,9 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "pnf/error.hpp"
 
 #include "spatial/spatial_order.hpp"
 
@@ -46,6 +51,114 @@ TEST(SpatialIndex, MatchBruteForce) {
     EXPECT_EQ(got, brute_force(p, s, radius)) << "point " << s;
     EXPECT_TRUE(got.count(static_cast<std::uint32_t>(s))) << "point " << s << " is not its own neighbour";
   }
+}
+
+// The list searches ask their poll on the calling thread only, with a share done that grows
+// within [0, 1], and a false answer stops them with Error(cancelled). The lists a poll watched are
+// the lists without one.
+TEST(SpatialIndex, SearchesReportOnTheCallingThreadAndCancel) {
+  std::vector<double> p = random_points(20000, 5);
+  SpatialIndex search(p);
+  const double radius = 0.05;
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<double> seen;
+  bool other_thread = false;
+  const pnf::detail::WorkPoll watch = [&](double fraction) {
+    other_thread = other_thread || std::this_thread::get_id() != caller;
+    seen.push_back(fraction);
+    return true;
+  };
+  const std::vector<std::uint32_t> counts = search.count_within(radius, 0, 20000, watch);
+  EXPECT_EQ(counts, search.count_within(radius));
+  ASSERT_FALSE(seen.empty());  // the first block always asks
+  EXPECT_FALSE(other_thread);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_GE(seen.front(), 0.0);
+  EXPECT_LE(seen.back(), 1.0);
+  seen.clear();
+  const CsrLists watched = search.lists_within(radius, 0, 20000, counts, watch);
+  EXPECT_EQ(watched.indices, search.lists_within(radius, 0, 20000, counts).indices);
+  EXPECT_FALSE(seen.empty());
+  EXPECT_FALSE(other_thread);
+  seen.clear();
+  search.nearest_table(8, watch);
+  EXPECT_FALSE(seen.empty());
+  EXPECT_FALSE(other_thread);
+
+  const pnf::detail::WorkPoll cancel = [](double) { return false; };
+  const auto expect_cancelled = [](const std::function<void()>& body, const char* what) {
+    try {
+      body();
+      ADD_FAILURE() << what << " was not cancelled";
+    } catch (const pnf::Error& e) {
+      EXPECT_EQ(e.code(), pnf::ErrorCode::cancelled) << what << ": " << e.what();
+    }
+  };
+  expect_cancelled([&] { search.count_within(radius, 0, 20000, cancel); }, "count_within");
+  expect_cancelled([&] { search.lists_within(radius, 0, 20000, counts, cancel); }, "lists_within");
+  expect_cancelled([&] { search.nearest_table(8, cancel); }, "nearest_table");
+  // An exception thrown by the poll stops the workers and comes back as it was.
+  EXPECT_THROW(search.count_within(radius, 0, 20000, [](double) -> bool { throw std::logic_error("from poll"); }),
+               std::logic_error);
+}
+
+// Every scan variant (plain, target_clones, explicit AVX-512, other block sizes) gives the lists
+// of brute force, on an integer grid where many neighbours sit exactly on the radius (distances
+// of integer points are exact in double, so the inclusive test decides them) and each point has
+// far more than 16 candidates (the AVX-512 scans' step).
+TEST(SpatialIndex, EveryScanVariantGivesTheBruteForceLists) {
+  std::vector<double> p;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) p.insert(p.end(), {double(i) - 4.5, double(j) - 4.5, double(k) - 4.5});
+  const std::size_t n = p.size() / 3;
+  const double radius = 3.0;  // (3,0,0), (2,2,1) and their images lie exactly on it
+  SpatialIndex search(p);
+  std::vector<SpatialIndex::ListTuning> tunings(5);
+  tunings[1].avx512_scan = false;
+  tunings[2].avx512_scan = false;
+  tunings[2].wide_scan = false;
+  tunings[3].block_extent_in_radii = 0.5;
+  tunings[4].block_extent_in_radii = 1.5;
+  for (std::size_t t = 0; t < tunings.size(); ++t) {
+    search.set_list_tuning(tunings[t]);
+    const std::vector<std::uint32_t> counts = search.count_within(radius);
+    const CsrLists lists = search.lists_within(radius, 0, n, counts);
+    for (std::size_t s = 0; s < n; ++s) {
+      const std::set<std::uint32_t> want = brute_force(p, s, radius);
+      ASSERT_EQ(counts[s], want.size()) << "tuning " << t << ", point " << s;
+      const std::vector<std::uint32_t> got(lists.indices.begin() + lists.offsets[s],
+                                           lists.indices.begin() + lists.offsets[s + 1]);
+      ASSERT_EQ(got, std::vector<std::uint32_t>(want.begin(), want.end())) << "tuning " << t << ", point " << s;
+    }
+  }
+}
+
+// Candidates kept by the count give the fill the same lists, for the whole range and for a chunk
+// inside it; they do not claim to cover another radius or a range outside the count's.
+TEST(SpatialIndex, KeptCandidatesGiveTheSameLists) {
+  std::vector<double> p = random_points(5000, 3);
+  SpatialIndex search(p);
+  const double radius = 0.07;
+  pnf::detail::BlockCandidates kept;
+  const std::vector<std::uint32_t> counts = search.count_within(radius, 0, 5000, {}, &kept);
+  EXPECT_EQ(counts, search.count_within(radius));
+  ASSERT_TRUE(kept.covers(radius, 0, 5000));
+  EXPECT_FALSE(kept.covers(radius * 1.01, 0, 5000));
+  EXPECT_GT(kept.bytes(), 0u);
+  for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{0, 5000}, {1234, 2000}}) {
+    std::vector<std::uint32_t> sub(counts.begin(), counts.end());
+    const CsrLists want = search.lists_within(radius, first, count, sub);
+    std::vector<std::uint64_t> offsets(count + 1);
+    std::vector<std::uint32_t> indices(want.indices.size());
+    search.fill_lists(radius, first, count, counts, offsets.data(), indices.data(), {}, &kept);
+    EXPECT_EQ(indices, want.indices) << "chunk at " << first;
+    EXPECT_EQ(offsets, want.offsets) << "chunk at " << first;
+  }
+  pnf::detail::BlockCandidates part;
+  search.count_within(radius, 1000, 1000, {}, &part);
+  EXPECT_TRUE(part.covers(radius, 1200, 500));
+  EXPECT_FALSE(part.covers(radius, 500, 1000));
 }
 
 TEST(SpatialIndex, RadiusIsInclusive) {

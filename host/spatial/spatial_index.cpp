@@ -4,11 +4,17 @@
 // index type).
 #include <flann/algorithms/dist.h>
 #include <flann/algorithms/kdtree_single_index.h>
+#if defined(__GNUC__) && defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #ifdef _OPENMP
@@ -64,6 +70,52 @@ constexpr int kLeafMaxSize = 10;
 // enough to keep every thread busy.
 constexpr std::size_t kQueryBlock = std::size_t{1} << 16;
 
+// How often the calling thread asks a WorkPoll: often enough for a progress bar and a prompt
+// cancel, rarely enough that a Python callback (which takes the GIL) costs nothing measurable.
+constexpr double kPollSeconds = 0.2;
+
+using Clock = std::chrono::steady_clock;
+
+// Runs work(b) for b in [0, blocks) on all OpenMP threads, one block per grab (dynamic), while
+// the master thread (the calling thread) asks `poll` before its first block and then every
+// kPollSeconds between its own blocks.
+// A false answer, or an exception from poll, makes every thread stop at its next grab; then this
+// throws Error(cancelled), or rethrows the exception. `work` must not throw.
+template <typename Setup, typename Work>
+void parallel_blocks(std::size_t blocks, const WorkPoll& poll, Setup&& setup, Work&& work) {
+  std::atomic<std::size_t> next{0}, done{0};
+  std::atomic<bool> stop{false};
+  std::exception_ptr failure;
+  Clock::time_point last_poll{};  // long ago: the first grab asks, so even a short search can be cancelled
+#pragma omp parallel
+  {
+    auto state = setup();
+#ifdef _OPENMP
+    const bool polls = poll && omp_get_thread_num() == 0;
+#else
+    const bool polls = bool(poll);
+#endif
+    for (;;) {
+      if (polls && std::chrono::duration<double>(Clock::now() - last_poll).count() >= kPollSeconds) {
+        try {
+          if (!poll(double(done.load(std::memory_order_relaxed)) / double(blocks))) stop = true;
+        } catch (...) {
+          failure = std::current_exception();
+          stop = true;
+        }
+        last_poll = Clock::now();
+      }
+      if (stop.load(std::memory_order_relaxed)) break;
+      const std::size_t b = next.fetch_add(1, std::memory_order_relaxed);
+      if (b >= blocks) break;
+      work(state, b);
+      done.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  if (stop) throw Error(ErrorCode::cancelled, "cancelled while searching neighbours");
+}
+
 }  // namespace
 
 struct SpatialIndex::Tree {
@@ -93,7 +145,7 @@ SpatialIndex::~SpatialIndex() = default;
 
 std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
   std::vector<std::size_t> starts;
-  const double max_extent = kBlockExtentInRadii * radius;
+  const double max_extent = tuning_.block_extent_in_radii * radius;
   std::size_t i = 0;
   while (i < point_count_) {
     starts.push_back(i);
@@ -125,58 +177,184 @@ std::vector<std::size_t> SpatialIndex::block_starts(double radius) const {
 // `visit` gets the point, the block's candidate ids and coordinates, and a scratch array as long
 // as the candidates.
 template <typename Visit>
-void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const {
+void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll,
+                                  Visit&& visit, const BlockCandidates* reuse, BlockCandidates* keep) const {
   const std::vector<std::size_t> starts = block_starts(radius);
   const std::size_t end = first + count;
   // Blocks that overlap [first, end).
   std::size_t b0 = std::upper_bound(starts.begin(), starts.end(), first) - starts.begin() - 1;
   std::size_t b1 = std::lower_bound(starts.begin(), starts.end(), end) - starts.begin();
   const flann::SearchParams params = exact_search();
-  const auto blocks = static_cast<std::int64_t>(b1 - b0);
-#pragma omp parallel
-  {
+  if (reuse && !(reuse->covers(radius, first, count) && reuse->block_extent_ == tuning_.block_extent_in_radii)) {
+    reuse = nullptr;
+  }
+  std::atomic<std::size_t> kept{0};
+  std::atomic<bool> overflow{false};
+  if (keep) {
+    *keep = BlockCandidates{};
+    keep->radius_ = radius;
+    keep->block_extent_ = tuning_.block_extent_in_radii;
+    keep->first_ = first;
+    keep->count_ = count;
+    keep->first_block_ = b0;
+    keep->blocks_.resize(b1 - b0);
+  }
+  struct Scratch {
     std::vector<std::uint32_t> ids, scratch;
     std::vector<double> cx, cy, cz;
-#pragma omp for schedule(dynamic, 4)
-    for (std::int64_t b = 0; b < blocks; ++b) {
-      const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
-      double lo[3], hi[3], centre[3], half_diagonal2 = 0;
-      for (int k = 0; k < 3; ++k) lo[k] = hi[k] = positions_[3 * begin + k];
-      for (std::size_t i = begin; i < stop; ++i) {
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], positions_[3 * i + k]);
-          hi[k] = std::max(hi[k], positions_[3 * i + k]);
+  };
+  parallel_blocks(
+      b1 - b0, poll,
+      [] { return Scratch{}; },
+      [&](Scratch& s, std::size_t b) {
+        const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
+        double lo[3], hi[3], centre[3], half_diagonal2 = 0;
+        for (int k = 0; k < 3; ++k) lo[k] = hi[k] = positions_[3 * begin + k];
+        for (std::size_t i = begin; i < stop; ++i) {
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], positions_[3 * i + k]);
+            hi[k] = std::max(hi[k], positions_[3 * i + k]);
+          }
         }
-      }
-      for (int k = 0; k < 3; ++k) {
-        centre[k] = 0.5 * (lo[k] + hi[k]);
-        half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
-      }
-      const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
-      ids.clear();
-      CollectingResultSet result(reach * reach, ids);
-      tree_->index.findNeighbors(result, centre, params);
-      std::sort(ids.begin(), ids.end());  // ascending ids: lists that walk memory forward
-      scratch.resize(ids.size());
-      cx.resize(ids.size());
-      cy.resize(ids.size());
-      cz.resize(ids.size());
-      for (std::size_t c = 0; c < ids.size(); ++c) {
-        cx[c] = positions_[3 * std::size_t(ids[c])];
-        cy[c] = positions_[3 * std::size_t(ids[c]) + 1];
-        cz[c] = positions_[3 * std::size_t(ids[c]) + 2];
-      }
-      for (std::size_t i = std::max(begin, first); i < std::min(stop, end); ++i) {
-        visit(i, ids, cx, cy, cz, scratch);
-      }
-    }
+        for (int k = 0; k < 3; ++k) {
+          centre[k] = 0.5 * (lo[k] + hi[k]);
+          half_diagonal2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        }
+        if (reuse) {
+          const std::vector<std::uint32_t>& kept_ids = reuse->blocks_[b0 + b - reuse->first_block_];
+          s.ids.assign(kept_ids.begin(), kept_ids.end());
+        } else {
+          const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
+          s.ids.clear();
+          CollectingResultSet result(reach * reach, s.ids);
+          tree_->index.findNeighbors(result, centre, params);
+          std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
+        }
+        if (keep && !overflow.load(std::memory_order_relaxed)) {
+          if (kept.fetch_add(s.ids.size(), std::memory_order_relaxed) + s.ids.size() > BlockCandidates::kMaxIds) {
+            overflow = true;
+          } else {
+            keep->blocks_[b] = s.ids;  // one exact allocation a block, no growing vector to copy
+          }
+        }
+        s.scratch.resize(s.ids.size() + 16);  // 16 ids of room for the AVX-512 compaction's full-width store
+        s.cx.resize(s.ids.size());
+        s.cy.resize(s.ids.size());
+        s.cz.resize(s.ids.size());
+        for (std::size_t c = 0; c < s.ids.size(); ++c) {
+          s.cx[c] = positions_[3 * std::size_t(s.ids[c])];
+          s.cy[c] = positions_[3 * std::size_t(s.ids[c]) + 1];
+          s.cz[c] = positions_[3 * std::size_t(s.ids[c]) + 2];
+        }
+        for (std::size_t i = std::max(begin, first); i < std::min(stop, end); ++i) {
+          visit(i, s.ids, s.cx, s.cy, s.cz, s.scratch);
+        }
+      });
+  if (keep) {
+    keep->complete_ = !overflow;
+    if (overflow) *keep = BlockCandidates{};
   }
+}
+
+std::size_t BlockCandidates::bytes() const {
+  std::size_t ids = 0;
+  for (const auto& v : blocks_) ids += v.capacity();
+  return ids * sizeof(std::uint32_t) + blocks_.capacity() * sizeof(blocks_[0]);
 }
 
 namespace {
 
-// SPEC's neighbourhood, |p - s| <= radius, inclusive, decided here and only here.
+// SPEC's neighbourhood, |p - s| <= radius, inclusive, decided here and only here (in the scans
+// below, which all inline it). The file is compiled without floating-point contraction
+// (-std=c++17 implies -ffp-contract=off on GCC), so every build and every instruction set below
+// rounds this expression the same way and gives the same lists.
 inline bool within(double dx, double dy, double dz, double radius2) { return dx * dx + dy * dy + dz * dz <= radius2; }
+
+// How many of a point's candidates are within. Written once, built twice: plain (the build's
+// baseline, SSE2 on x86-64) and, through target_clones, for AVX-512 and AVX2 too, picked at load
+// time by the CPU (the loop is vectorised across candidates).
+struct Candidates {
+  const double* x;
+  const double* y;
+  const double* z;
+  std::size_t size;
+};
+
+inline std::uint32_t count_scan_body(const Candidates& c, double px, double py, double pz, double radius2) {
+  std::uint32_t n = 0;
+  for (std::size_t k = 0; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define PNF_WIDE_SCAN __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define PNF_WIDE_SCAN
+#endif
+
+PNF_WIDE_SCAN std::uint32_t count_scan_wide(const Candidates& c, double px, double py, double pz, double radius2) {
+  return count_scan_body(c, px, py, pz, radius2);
+}
+std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double pz, double radius2) {
+  return count_scan_body(c, px, py, pz, radius2);
+}
+#if defined(__GNUC__) && defined(__x86_64__)
+#define PNF_HAVE_AVX512_SCAN 1
+// AVX-512 versions, 16 candidates a step: two 8-wide double tests (the same operations in the
+// same order as within(), so the same roundings) give a 16-bit mask; the count adds its bits,
+// the compaction packs the ids it selects with one in-register compress and a full-width store
+// (a compress straight to memory is microcoded and slow on some cores). `out` must have room
+// for 16 ids past the last one kept; the tail (under 16) goes through within() itself.
+__attribute__((target("avx512f"))) inline __mmask8 within8(const Candidates& c, std::size_t at, __m512d px,
+                                                             __m512d py, __m512d pz, __m512d radius2) {
+  const __m512d dx = _mm512_sub_pd(_mm512_loadu_pd(c.x + at), px);
+  const __m512d dy = _mm512_sub_pd(_mm512_loadu_pd(c.y + at), py);
+  const __m512d dz = _mm512_sub_pd(_mm512_loadu_pd(c.z + at), pz);
+  const __m512d d2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)), _mm512_mul_pd(dz, dz));
+  return _mm512_cmp_pd_mask(d2, radius2, _CMP_LE_OQ);
+}
+
+__attribute__((target("avx512f"))) inline __mmask16 within16(const Candidates& c, std::size_t k, __m512d px,
+                                                               __m512d py, __m512d pz, __m512d radius2) {
+  return __mmask16(unsigned(within8(c, k, px, py, pz, radius2)) | (unsigned(within8(c, k + 8, px, py, pz, radius2)) << 8));
+}
+
+__attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candidates& c, double px, double py,
+                                                                     double pz, double radius2) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
+                vr = _mm512_set1_pd(radius2);
+  std::uint32_t n = 0;
+  std::size_t k = 0;
+  for (; k + 16 <= c.size; k += 16) n += std::uint32_t(__builtin_popcount(unsigned(within16(c, k, vx, vy, vz, vr))));
+  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+
+__attribute__((target("avx512f"))) std::size_t compact_scan_avx512(const Candidates& c, const std::uint32_t* ids,
+                                                                     double px, double py, double pz, double radius2,
+                                                                     std::uint32_t* out) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
+                vr = _mm512_set1_pd(radius2);
+  std::size_t written = 0, k = 0;
+  for (; k + 16 <= c.size; k += 16) {
+    const __mmask16 keep = within16(c, k, vx, vy, vz, vr);
+    const __m512i packed = _mm512_maskz_compress_epi32(keep, _mm512_loadu_si512(ids + k));
+    _mm512_storeu_si512(out + written, packed);
+    written += std::size_t(__builtin_popcount(unsigned(keep)));
+  }
+  for (; k < c.size; ++k) {
+    out[written] = ids[k];
+    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  }
+  return written;
+}
+
+bool cpu_has_avx512() {
+  static const bool has = __builtin_cpu_supports("avx512f");
+  return has;
+}
+#endif
+
 
 }  // namespace
 
@@ -184,23 +362,39 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius) const {
   return count_within(radius, 0, point_count_);
 }
 
-std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count) const {
+std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t first, std::size_t count,
+                                                      const WorkPoll& poll, BlockCandidates* keep) const {
   std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
-  for_each_point(radius, first, count,
+  for_each_point(radius, first, count, poll,
                  [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
-                   std::uint32_t n = 0;
-                   for (std::size_t c = 0; c < ids.size(); ++c)
-                     n += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
-                   counts[i - first] = n;
-                 });
+                   const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
+#ifdef PNF_HAVE_AVX512_SCAN
+                   if (tuning_.avx512_scan && cpu_has_avx512()) {
+                     counts[i - first] = count_scan_avx512(c, px, py, pz, radius2);
+                     return;
+                   }
+#endif
+                   counts[i - first] = tuning_.wide_scan ? count_scan_wide(c, px, py, pz, radius2)
+                                                         : count_scan_plain(c, px, py, pz, radius2);
+                 },
+                 nullptr, keep);
   return counts;
 }
 
+std::size_t SpatialIndex::candidates_scanned(double radius, std::size_t first, std::size_t count) const {
+  std::vector<std::uint32_t> scanned(count);
+  for_each_point(radius, first, count, {},
+                 [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>&,
+                     const std::vector<double>&, const std::vector<double>&,
+                     std::vector<std::uint32_t>&) { scanned[i - first] = std::uint32_t(ids.size()); });
+  return std::accumulate(scanned.begin(), scanned.end(), std::size_t(0));
+}
+
 CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_t count,
-                                       const std::vector<std::uint32_t>& counts) const {
+                                    const std::vector<std::uint32_t>& counts, const WorkPoll& poll) const {
   CsrLists lists;
   lists.first_point = first;
   lists.point_count = count;
@@ -208,28 +402,42 @@ CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_
   for (std::size_t k = 0; k < count; ++k) pairs += counts[first + k];
   lists.offsets.resize(count + 1);
   lists.indices.resize(pairs);
-  fill_lists(radius, first, count, counts, lists.offsets.data(), lists.indices.data());
+  fill_lists(radius, first, count, counts, lists.offsets.data(), lists.indices.data(), poll);
   return lists;
 }
 
 void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t count,
                                  const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
-                                 std::uint32_t* indices) const {
+                              std::uint32_t* indices, const WorkPoll& poll, const BlockCandidates* reuse) const {
   offsets[0] = 0;
   for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double radius2 = radius * radius;
   std::atomic<bool> mismatch{false};
   for_each_point(
-      radius, first, count,
+      radius, first, count, poll,
       [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
           const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>& scratch) {
         const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
         // Branch-free compaction into scratch (a member or not is a coin toss near the
         // boundary, which a branch predicts badly), then one copy into the list.
         std::size_t written = 0;
-        for (std::size_t c = 0; c < ids.size(); ++c) {
-          scratch[written] = ids[c];
-          written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+#ifdef PNF_HAVE_AVX512_SCAN
+        const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
+#else
+        const bool avx512 = false;
+#endif
+        if (avx512) {
+#ifdef PNF_HAVE_AVX512_SCAN
+          written = compact_scan_avx512(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, ids.data(), px, py,
+                                        pz, radius2, scratch.data());
+#endif
+        } else {
+          // Plain even where wide_scan is set: the auto-vectorised flags-then-compact variant
+          // lost to this loop on the dog (docs/performance.md).
+          for (std::size_t c = 0; c < ids.size(); ++c) {
+            scratch[written] = ids[c];
+            written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
+          }
         }
         const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
         if (written != capacity) {
@@ -237,7 +445,8 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
           return;
         }
         std::copy(scratch.begin(), scratch.begin() + written, indices + offsets[i - first]);
-      });
+      },
+      reuse);
   if (mismatch) {
     // The same exact test ran twice on the same data; a different count is a bug, not bad data.
     throw Error(ErrorCode::invalid_input, "internal error: neighbour search gave different counts on two runs");
@@ -295,7 +504,7 @@ std::vector<double> SpatialIndex::mean_knn_distance(int k, std::size_t max_sampl
   return out;
 }
 
-NeighbourTable SpatialIndex::nearest_table(int k) const {
+NeighbourTable SpatialIndex::nearest_table(int k, const WorkPoll& poll) const {
   flann::SearchParams search;
   // Exact search; the single kd-tree is exact anyway, but say so rather than rely on it.
   search.checks = flann::FLANN_CHECKS_UNLIMITED;
@@ -323,7 +532,15 @@ NeighbourTable SpatialIndex::nearest_table(int k) const {
   // FLANN's query matrix is of non-const elements; it only reads them.
   double* queries_data = const_cast<double*>(positions_.data());
 
+  Clock::time_point last_poll{};  // the first block asks
   for (std::size_t first = 0; first < count; first += kQueryBlock) {
+    // FLANN spreads each block over the threads itself; between blocks this (calling) thread asks.
+    if (poll && std::chrono::duration<double>(Clock::now() - last_poll).count() >= kPollSeconds) {
+      if (!poll(double(first) / double(count))) {
+        throw Error(ErrorCode::cancelled, "cancelled while searching neighbours");
+      }
+      last_poll = Clock::now();
+    }
     const std::size_t rows = std::min(kQueryBlock, count - first);
     const flann::Matrix<double> queries(queries_data + first * 3, rows, 3);
     flann::Matrix<std::size_t> found_matrix(found.data(), rows, wanted);

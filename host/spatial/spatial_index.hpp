@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -13,12 +14,60 @@
 
 namespace pnf::detail {
 
+// Asked by the long searches below (count_within, fill_lists, lists_within, nearest_table) on the
+// calling thread only, about every kPollSeconds (spatial_index.cpp), with the share of the work
+// done in [0, 1]; returning false cancels: the worker threads stop at their next block and the
+// search throws pnf::Error(cancelled). An exception it throws stops the workers the same way and
+// is rethrown. Empty: never asked.
+using WorkPoll = std::function<bool(double fraction)>;
+
 // A kd-tree over N points, searched in parallel with OpenMP. All distances here are plain
 // Euclidean distances in model units unless a name says "squared"; FLANN's own squared
 // distances stay inside the .cpp except where a parameter is named squared_distances.
 // Every search is exact (no approximation). Thread safety: const methods may run concurrently.
+class SpatialIndex;
+
+// The candidates of each search block of one list search (see spatial_index.cpp), kept by
+// count_within for fill_lists, so that the fill (and, in a chunked run, every pass's refill)
+// does not search the tree and sort again: on the dog setting those searches are about 2/3 of
+// the count (docs/performance.md). Blocks of up to 256 points share one candidate set, so it
+// takes about 3% of the lists' memory (44 MB for the dog's 1.3 GB, 220 MB for the 2M-point
+// sigma_f 8 cloud's 6.5 GB); at most kMaxIds ids are kept, beyond that nothing is and the fill
+// searches as before. Same lists either way. The engine counts them against its memory budget.
+class BlockCandidates {
+ public:
+  static constexpr std::size_t kMaxIds = std::size_t(1) << 27;  // 512 MB
+  // Whether a search for `radius` over points [first, first + count) can use these.
+  bool covers(double radius, std::size_t first, std::size_t count) const {
+    return complete_ && radius == radius_ && first >= first_ && first + count <= first_ + count_;
+  }
+  std::size_t bytes() const;
+
+ private:
+  friend class SpatialIndex;
+  bool complete_ = false;
+  double radius_ = 0;
+  double block_extent_ = 0;
+  std::size_t first_ = 0, count_ = 0;
+  std::size_t first_block_ = 0;                     // global index of blocks_[0]
+  std::vector<std::vector<std::uint32_t>> blocks_;  // per block, its sorted candidate ids
+};
+
 class SpatialIndex {
  public:
+  // How the list searches (count_within, fill_lists) scan their candidates. For bench/ to compare
+  // variants on one machine in one run; the defaults are the measured best (docs/performance.md).
+  // Every variant gives the same lists: the exact test is the same double expression.
+  struct ListTuning {
+    double block_extent_in_radii = 1.0;  // a search block's largest extent along an axis, in radii
+    bool wide_scan = true;  // the count's scan built for AVX-512 / AVX2 as well, chosen at run time
+    bool avx512_scan = true;  // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
+  };
+  void set_list_tuning(const ListTuning& tuning) { tuning_ = tuning; }
+  // The candidates the list searches for `radius` test over points [first, first + count), for
+  // bench/: their sum divided by the pairs is the candidates scanned per neighbour.
+  std::size_t candidates_scanned(double radius, std::size_t first, std::size_t count) const;
+
   // How the points are laid out in memory; it sets whether the tree keeps its own copy.
   enum class Layout {
     // Points already sorted along a space-filling curve (morton_order): neighbours sit near each
@@ -47,7 +96,7 @@ class SpatialIndex {
   // duplicates sit at distance 0 the point may come back in any slot or not at all; then the
   // farthest result is dropped instead. Runs on omp_get_max_threads() threads; the answer does
   // not depend on the count.
-  NeighbourTable nearest_table(int k) const;
+  NeighbourTable nearest_table(int k, const WorkPoll& poll = {}) const;
 
   // The k nearest points of point `point` (itself included when it is among them, which it is
   // unless k duplicates of it exist): ids[0 .. k) and their SQUARED distances, in no particular
@@ -69,7 +118,9 @@ class SpatialIndex {
   // Allocates only the N counts.
   std::vector<std::uint32_t> count_within(double radius) const;
   // The same for points [first, first + count) only: count entries.
-  std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count) const;
+  // With `keep`, the blocks' candidates are kept there for fill_lists (see BlockCandidates).
+  std::vector<std::uint32_t> count_within(double radius, std::size_t first, std::size_t count,
+                                          const WorkPoll& poll = {}, BlockCandidates* keep = nullptr) const;
 
   // An estimate of the sum of count_within(radius) from a sample of points spread through the
   // cloud: cheap when that sum is huge (cost: samples x neighbours), so a run can be refused
@@ -80,22 +131,25 @@ class SpatialIndex {
   // `counts` is what count_within returned for the same radius; it sizes the arrays before any
   // search runs.
   CsrLists lists_within(double radius, std::size_t first, std::size_t count,
-                        const std::vector<std::uint32_t>& counts) const;
+                        const std::vector<std::uint32_t>& counts, const WorkPoll& poll = {}) const;
 
   // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
   // count + 1 entries and `indices` the sum of counts[first .. first + count).
   void fill_lists(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts,
-                  std::uint64_t* offsets, std::uint32_t* indices) const;
+                  std::uint64_t* offsets, std::uint32_t* indices, const WorkPoll& poll = {},
+                  const BlockCandidates* reuse = nullptr) const;
 
  private:
   struct Tree;
   // First point of each search block for `radius` (see the .cpp), then N.
   std::vector<std::size_t> block_starts(double radius) const;
   template <typename Visit>
-  void for_each_point(double radius, std::size_t first, std::size_t count, Visit&& visit) const;
+  void for_each_point(double radius, std::size_t first, std::size_t count, const WorkPoll& poll, Visit&& visit,
+                      const BlockCandidates* reuse = nullptr, BlockCandidates* keep = nullptr) const;
 
   std::vector<double> positions_;
   std::size_t point_count_;
+  ListTuning tuning_;
   std::unique_ptr<Tree> tree_;
 };
 

@@ -87,7 +87,8 @@ def improve_normals(
     backend: "opencl" (float32 kernels, on `device`) or "reference" (double-precision C++ on
         all cores, no OpenCL needed; `device` must then be None or "reference").
     progress: called as progress(pass_done, passes, seconds) after each pass; returning False
-        cancels the run (Cancelled is raised). Ctrl-C also cancels between passes.
+        cancels the run (Cancelled is raised). It is not called while the neighbour lists are
+        built; Ctrl-C cancels between passes and, within about 0.2 s, during the list build.
     radii: optional (N,) surfel radii.
     stop_change_deg: end the passes once the normals change less than this on average
         (degrees); None: off, or the rule's 0.01 with auto=True.
@@ -125,6 +126,7 @@ def estimate_normals(
     nearest others, oriented by `orient`: "mst" (minimum spanning tree propagation, Hoppe 1992),
     "outward" (away from the centroid) or "viewpoint" (toward `viewpoint`). Needs N >= 3 and
     k >= 3. Returns an (N, 3) float64 array. float32/float64 points are read in place.
+    Ctrl-C interrupts it within about 0.2 s (KeyboardInterrupt).
     """
     return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
 

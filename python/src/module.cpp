@@ -51,9 +51,10 @@ FilterOptions filter_options(const std::optional<std::string>& device, const std
   return options;
 }
 
-// The progress callback the library calls after each pass, with the GIL released. It takes the
-// GIL back to run Python's signal handlers (so Ctrl-C raises KeyboardInterrupt between passes)
-// and the user's callable. Any Python exception is kept in `pending` and cancels the run; the
+// The progress callback the library calls after each pass and about every 0.2 s while it builds
+// the neighbour lists, with the GIL released. It takes the GIL back to run Python's signal
+// handlers (so Ctrl-C raises KeyboardInterrupt between passes and during the list build) and,
+// after a pass only, the user's callable: its contract stays (pass, passes, seconds). Any Python exception is kept in `pending` and cancels the run; the
 // caller rethrows it in place of pnf::Error(cancelled).
 ProgressCallback python_progress(const py::object& callable, std::exception_ptr& pending) {
   // Captures by reference only: the library may copy the std::function without the GIL.
@@ -61,7 +62,7 @@ ProgressCallback python_progress(const py::object& callable, std::exception_ptr&
     py::gil_scoped_acquire gil;
     try {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!callable.is_none()) {
+      if (!callable.is_none() && p.stage == ProgressStage::pass) {
         py::object answer = callable(p.pass, p.passes, p.seconds);
         if (answer.ptr() == Py_False) return false;
       }
@@ -178,10 +179,12 @@ py::object estimate(py::handle points, int k, const std::string& orient, const s
   params.validate();
   Vec3Input p(points, "points");
   Vec3Output out = new_vec3_array(p.size());
-  {
-    py::gil_scoped_release nogil;
-    estimate_normals(p.view(), out.view, params);
-  }
+  // No user callable: the progress reports only run Python's signal handlers, so Ctrl-C raises
+  // KeyboardInterrupt during a long estimate.
+  std::exception_ptr pending;
+  const py::object none = py::none();
+  const ProgressCallback callback = python_progress(none, pending);
+  run_released(pending, [&] { estimate_normals(p.view(), out.view, params, callback); });
   return out.array;
 }
 

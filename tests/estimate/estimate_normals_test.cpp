@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #ifdef _OPENMP
@@ -209,6 +210,41 @@ TEST(EstimateNormals, NoisyPlaneNormalsAreWithinAFewDegrees) {
   EXPECT_LT(agreement.mean_angle_degrees, kMeanAngleDegrees);
   // The true normal has n_z > 0, which is where the mst seed rule points an open sheet.
   EXPECT_EQ(agreement.oriented_share, 1.0);
+}
+
+// Progress comes on the calling thread, lists (the k-nearest search) first and then estimate,
+// each ending at 1; the normals are those of a run without a callback. A false answer in either
+// stage cancels with Error(cancelled) and leaves the output as it was.
+TEST(EstimateNormals, ProgressIsReportedByStageAndCanCancel) {
+  const Sample plane = noisy_plane(2000, 1);
+  const EstimateParams params = params_with(Orientation::mst);
+  const std::thread::id caller = std::this_thread::get_id();
+  std::vector<PassProgress> seen;
+  const std::vector<Vec3> watched = estimate_normals(plane.positions, params, [&](const PassProgress& p) {
+    EXPECT_EQ(std::this_thread::get_id(), caller);
+    seen.push_back(p);
+    return true;
+  });
+  EXPECT_EQ(watched, estimate_normals(plane.positions, params));
+  ASSERT_GE(seen.size(), 4u);  // at least the first poll and the end of lists, two ends in estimate
+  EXPECT_EQ(seen.front().stage, ProgressStage::lists);
+  EXPECT_EQ(seen.back().stage, ProgressStage::estimate);
+  EXPECT_EQ(seen.back().fraction, 1.0);
+  for (std::size_t i = 1; i < seen.size(); ++i) {
+    EXPECT_GE(int(seen[i].stage), int(seen[i - 1].stage)) << "report " << i;
+    if (seen[i].stage == seen[i - 1].stage) EXPECT_GE(seen[i].fraction, seen[i - 1].fraction) << "report " << i;
+  }
+  for (const ProgressStage stop_in : {ProgressStage::lists, ProgressStage::estimate}) {
+    std::vector<Vec3> out(plane.positions.size(), Vec3{7, 7, 7});
+    try {
+      estimate_normals(Vec3ArrayView(plane.positions), MutableVec3ArrayView(out), params,
+                       [&](const PassProgress& p) { return p.stage != stop_in; });
+      ADD_FAILURE() << "not cancelled in stage " << to_string(stop_in);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+    }
+    for (const Vec3& n : out) ASSERT_EQ(n, (Vec3{7, 7, 7})) << "written after a cancel in " << to_string(stop_in);
+  }
 }
 
 TEST(EstimateNormals, ViewpointOrientationFacesTheViewpoint) {

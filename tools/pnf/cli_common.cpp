@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -10,12 +11,13 @@
 namespace pnf::cli {
 namespace {
 
-// Set by the SIGINT / SIGTERM handler, read by the progress callback after each pass.
+// Set by the SIGINT / SIGTERM handler, read by the progress callback after each pass and about
+// every 0.2 s while lists are built or normals estimated.
 volatile std::sig_atomic_t interrupted = 0;
 
 void on_interrupt(int) { interrupted = 1; }
 
-// The first SIGINT or SIGTERM asks the run to stop after the current pass; SA_RESETHAND puts the
+// The first SIGINT or SIGTERM asks the run to stop at its next progress report; SA_RESETHAND puts the
 // default action back, so a second one ends the process at once.
 void stop_after_pass_on_interrupt() {
   struct sigaction action {};
@@ -49,10 +51,22 @@ ProgressCallback progress_bar(bool quiet) {
   if (quiet || !isatty(STDERR_FILENO)) return [](const PassProgress&) { return interrupted == 0; };
   return [](const PassProgress& p) {
     constexpr int kWidth = 30;
-    int filled = p.passes > 0 ? kWidth * p.pass / p.passes : kWidth;
-    std::fprintf(stderr, "\r  pass %d/%d [%s%s] %.2f s", p.pass, p.passes, std::string(filled, '#').c_str(),
+    // A pass shows passes done of all; the other stages their own share done.
+    const double done = p.stage == ProgressStage::pass ? (p.passes > 0 ? double(p.pass) / p.passes : 1.0)
+                                                       : std::clamp(p.fraction, 0.0, 1.0);
+    const int filled = int(kWidth * done);
+    char label[32];
+    if (p.stage == ProgressStage::pass) {
+      std::snprintf(label, sizeof label, "pass %d/%d", p.pass, p.passes);
+    } else {
+      std::snprintf(label, sizeof label, "%s %3.0f%%", to_string(p.stage), 100 * done);
+    }
+    std::fprintf(stderr, "\r  %-14s [%s%s] %.2f s ", label, std::string(filled, '#').c_str(),
                  std::string(kWidth - filled, ' ').c_str(), p.seconds);
-    if (p.pass == p.passes || interrupted) std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
+    const bool last = p.stage == ProgressStage::pass ? p.pass == p.passes : p.stage == ProgressStage::estimate && done >= 1;
+    if (last || interrupted) {
+      std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
+    }
     std::fflush(stderr);
     return interrupted == 0;
   };

@@ -32,9 +32,11 @@ int report(const Error& e, Stage stage);
 int exit_code(const Error& e, Stage stage);
 
 // A progress callback that draws a one-line bar on stderr when stderr is a terminal and `quiet`
-// is false; otherwise it draws nothing. Making it installs a SIGINT / SIGTERM handler: after the
-// first such signal the callback returns false, so the run stops after the current pass with
-// Error(cancelled) (exit kCancelled, nothing written); a second signal ends the process at once.
+// is false (the neighbour lists, each pass, estimate_normals' stages); otherwise it draws
+// nothing. Making it installs a SIGINT / SIGTERM handler: after the first such signal the
+// callback returns false, so the run stops at its next report (after the current pass, or within
+// about 0.2 s while lists are built or normals estimated) with Error(cancelled) (exit
+// kCancelled, nothing written); a second signal ends the process at once.
 ProgressCallback progress_bar(bool quiet);
 
 // Runs `body`, turning pnf::Error into a message and exit code (stage from `stage`, which body

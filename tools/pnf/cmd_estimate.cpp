@@ -39,7 +39,7 @@ int run_estimate(const EstimateFlags& flags) {
     }
     stage = Stage::running;
     auto start = std::chrono::steady_clock::now();
-    std::vector<Vec3> normals = estimate_normals(file.cloud().positions, params);
+    std::vector<Vec3> normals = estimate_normals(file.cloud().positions, params, progress_bar(flags.quiet));
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stage = Stage::writing;
     bool replaced = file.has_normals();

@@ -6,6 +6,7 @@
 
 #include "pnf/cloud_view.hpp"
 #include "pnf/point_cloud.hpp"
+#include "pnf/progress.hpp"
 
 namespace pnf {
 
@@ -85,10 +86,17 @@ struct EstimateParams {
 // Thread safety: reentrant; concurrent calls on different or the same (const) data are safe. The
 // per-point work runs on OpenMP threads (omp_get_max_threads()), and the result is bit-for-bit
 // the same for any number of threads.
+//
+// Progress: `progress`, when given, is called on the calling thread about every 0.2 s and at the
+// end of each stage, with stage lists (the k-nearest search) then estimate (the fits and the
+// orientation), fraction the share of that stage done, passes 0. Returning false cancels: the
+// call throws Error(ErrorCode::cancelled) and normals_out is left unchanged.
 void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out,
-                      const EstimateParams& params = EstimateParams{});
+                      const EstimateParams& params = EstimateParams{}, const ProgressCallback& progress = {});
 
-// The same, returning the normals: estimate_normals(positions, normals, params) into a new vector.
-std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{});
+// The same, returning the normals: estimate_normals(positions, normals, params, progress) into a
+// new vector.
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{},
+                                   const ProgressCallback& progress = {});
 
 }  // namespace pnf

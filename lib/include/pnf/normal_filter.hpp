@@ -12,6 +12,7 @@
 #include "pnf/device.hpp"
 #include "pnf/filter_params.hpp"
 #include "pnf/point_cloud.hpp"
+#include "pnf/progress.hpp"
 
 namespace pnf {
 
@@ -89,14 +90,8 @@ struct FilterResult {
   FilterSummary summary;
 };
 
-// Reported after each pass. Return false from the callback to cancel the run: it then throws
-// pnf::Error(cancelled) and returns nothing.
-struct PassProgress {
-  int pass = 0;    // 1-based pass just finished
-  int passes = 0;  // total passes
-  double seconds = 0;
-};
-using ProgressCallback = std::function<bool(const PassProgress&)>;
+// PassProgress, ProgressStage and ProgressCallback: pnf/progress.hpp.
+
 
 // A filter bound to one backend and device. The OpenCL program is compiled once, at
 // construction; each run() builds the cloud's neighbour lists once and reuses them and the

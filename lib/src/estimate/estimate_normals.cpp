@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -73,6 +74,22 @@ Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable
   return Vec3{normal[0] / length, normal[1] / length, normal[2] / length};
 }
 
+// Points fitted between two progress reports' time checks: a few milliseconds of work at k = 16.
+constexpr std::size_t kFitBlock = std::size_t{1} << 14;
+
+using Clock = std::chrono::steady_clock;
+
+// Reports stage `stage` at `fraction`, with the seconds since `start`; throws
+// Error(cancelled) when the callback answers false.
+void report(const ProgressCallback& progress, ProgressStage stage, Clock::time_point start, double fraction) {
+  if (!progress) return;
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (!progress(PassProgress{0, 0, seconds, stage, fraction})) {
+    throw Error(ErrorCode::cancelled, std::string("estimate_normals cancelled during the ") + to_string(stage) +
+                                          " stage");
+  }
+}
+
 }  // namespace
 
 const char* to_string(Orientation orientation) {
@@ -106,7 +123,8 @@ void EstimateParams::validate() const {
   }
 }
 
-void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, const EstimateParams& params) {
+void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, const EstimateParams& params,
+                      const ProgressCallback& progress) {
   params.validate();
   detail::check_cloud(CloudView(positions), estimate_requirements());
   if (normals_out.count != positions.count || (positions.count > 0 && normals_out.data == nullptr)) {
@@ -129,26 +147,49 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
   for (std::size_t s = 0; s < n; ++s) {
     for (int axis = 0; axis < 3; ++axis) centred[3 * s + axis] = sorted[s][axis] - centre[axis];
   }
-  const detail::NeighbourTable neighbours = detail::SpatialIndex(std::move(centred)).nearest_table(k);
-
-  std::vector<Vec3> sorted_normals(n);
-  const auto count = static_cast<std::int64_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t s = 0; s < count; ++s) {
-    sorted_normals[static_cast<std::size_t>(s)] = fit_normal(sorted, neighbours, static_cast<std::size_t>(s));
+  auto stage_start = Clock::now();
+  detail::WorkPoll poll;
+  if (progress) {
+    poll = [&](double fraction) {
+      report(progress, ProgressStage::lists, stage_start, fraction);
+      return true;
+    };
   }
+  const detail::NeighbourTable neighbours = detail::SpatialIndex(std::move(centred)).nearest_table(k, poll);
+  report(progress, ProgressStage::lists, stage_start, 1.0);
+
+  // The fits, a block of points at a time so that the calling thread can report between blocks.
+  // The orientation that follows gets the last kOrientShare of the stage.
+  constexpr double kOrientShare = 0.5;
+  stage_start = Clock::now();
+  auto last_report = stage_start;
+  std::vector<Vec3> sorted_normals(n);
+  for (std::size_t block = 0; block < n; block += kFitBlock) {
+    const auto stop = static_cast<std::int64_t>(std::min(n, block + kFitBlock));
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = static_cast<std::int64_t>(block); s < stop; ++s) {
+      sorted_normals[static_cast<std::size_t>(s)] = fit_normal(sorted, neighbours, static_cast<std::size_t>(s));
+    }
+    if (progress && std::chrono::duration<double>(Clock::now() - last_report).count() >= 0.2) {
+      report(progress, ProgressStage::estimate, stage_start, (1 - kOrientShare) * double(stop) / double(n));
+      last_report = Clock::now();
+    }
+  }
+  report(progress, ProgressStage::estimate, stage_start, 1 - kOrientShare);
 
   switch (params.orientation) {
     case Orientation::viewpoint: detail::orient_towards_viewpoint(sorted, params.viewpoint, sorted_normals); break;
     case Orientation::outward: detail::orient_outward(sorted, sorted_normals); break;
     case Orientation::mst: detail::orient_by_mst(sorted, neighbours, sorted_normals); break;
   }
+  report(progress, ProgressStage::estimate, stage_start, 1.0);
   for (std::size_t s = 0; s < n; ++s) normals_out.set(order[s], sorted_normals[s]);
 }
 
-std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params) {
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params,
+                                   const ProgressCallback& progress) {
   std::vector<Vec3> normals(positions.size());
-  estimate_normals(Vec3ArrayView(positions), MutableVec3ArrayView(normals), params);
+  estimate_normals(Vec3ArrayView(positions), MutableVec3ArrayView(normals), params, progress);
   return normals;
 }
 

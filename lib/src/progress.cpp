@@ -1,0 +1,14 @@
+#include "pnf/progress.hpp"
+
+namespace pnf {
+
+const char* to_string(ProgressStage stage) {
+  switch (stage) {
+    case ProgressStage::pass: return "pass";
+    case ProgressStage::lists: return "lists";
+    case ProgressStage::estimate: return "estimate";
+  }
+  return "unknown";
+}
+
+}  // namespace pnf
