@@ -65,10 +65,11 @@ constexpr double kCandidateMargin = 1e-9;
 // the block search below does most of the work.
 constexpr int kLeafMaxSize = 10;
 
-// Queries of nearest_table go to FLANN in blocks of this many points so that its size_t index and
-// distance buffers (16 bytes per neighbour) stay at a few tens of MB for any N; each block is large
-// enough to keep every thread busy.
-constexpr std::size_t kQueryBlock = std::size_t{1} << 16;
+// Queries of nearest_table go to FLANN in blocks of this many points: its size_t index and
+// distance buffers (16 bytes per neighbour) stay at a few MB for any N, each block still keeps
+// every thread busy, and the calling thread polls between blocks, so a cancel waits for one
+// block at most (at k = 200, 65536 queries took over 10 s in the sanitizer build).
+constexpr std::size_t kQueryBlock = std::size_t{1} << 12;
 
 // How often the calling thread asks a WorkPoll: often enough for a progress bar and a prompt
 // cancel, rarely enough that a Python callback (which takes the GIL) costs nothing measurable.
