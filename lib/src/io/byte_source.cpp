@@ -111,4 +111,16 @@ ByteSource::LineStatus ByteSource::read_line(std::string& line, std::size_t max_
   return LineStatus::line;
 }
 
+bool ByteSource::rest_is_filler() {
+  unsigned char chunk[4096];
+  for (;;) {
+    const std::size_t got = read(chunk, sizeof chunk);
+    if (got == 0) return true;
+    for (std::size_t i = 0; i < got; ++i) {
+      const unsigned char c = chunk[i];
+      if (!(c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0')) return false;
+    }
+  }
+}
+
 }  // namespace pnf

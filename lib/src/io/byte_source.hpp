@@ -35,6 +35,14 @@ class ByteSource {
   // max_length bytes.
   LineStatus read_line(std::string& line, std::size_t max_length);
 
+  // Reads what is left and says whether it is only line ends or padding (spaces, tabs, NULs),
+  // which some writers add after the data; anything else means the header's counts are short.
+  bool rest_is_filler();
+
+  // The longest body line a text reader takes: a file with no newlines is rejected after this
+  // many bytes instead of being read into one string.
+  static constexpr std::size_t kMaxBodyLine = std::size_t{1} << 30;
+
  private:
   bool fill();  // refills the buffer; false at the end of the file
 

@@ -23,11 +23,6 @@ namespace {
 // decompresses to more than 88 times its size. A declared size beyond that is corrupt, and is
 // refused before the output is allocated.
 constexpr std::uint64_t kLzfMaxExpansion = 88;
-// Ascii body lines hold one point; the cap only stops a file with no newlines from being read
-// into one string before it is rejected.
-constexpr std::size_t kMaxBodyLine = std::size_t{1} << 30;
-
-bool is_trailing_filler(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0'; }
 
 class PcdReader {
  public:
@@ -62,17 +57,10 @@ class PcdReader {
   }
 
   void check_end() {
-    unsigned char chunk[4096];
     const std::uint64_t extra = source_.remaining();
-    for (;;) {
-      const std::size_t got = source_.read(chunk, sizeof chunk);
-      if (got == 0) return;
-      for (std::size_t i = 0; i < got; ++i) {
-        if (!is_trailing_filler(chunk[i])) {
-          fail(std::to_string(extra) + " bytes of data after the last of " + std::to_string(header().points) +
-               " points (do POINTS, WIDTH x HEIGHT and the fields' SIZE and COUNT match the data?)");
-        }
-      }
+    if (!source_.rest_is_filler()) {
+      fail(std::to_string(extra) + " bytes of data after the last of " + std::to_string(header().points) +
+           " points (do POINTS, WIDTH x HEIGHT and the fields' SIZE and COUNT match the data?)");
     }
   }
 
@@ -196,11 +184,11 @@ class PcdReader {
     std::size_t line_number = header_lines_;
     const auto next_line = [&]() {
       for (;;) {
-        const ByteSource::LineStatus status = source_.read_line(line, kMaxBodyLine);
+        const ByteSource::LineStatus status = source_.read_line(line, ByteSource::kMaxBodyLine);
         if (status == ByteSource::LineStatus::end_of_file) return false;
         ++line_number;
         if (status == ByteSource::LineStatus::too_long) {
-          fail("line " + std::to_string(line_number) + ": longer than " + std::to_string(kMaxBodyLine) + " bytes");
+          fail("line " + std::to_string(line_number) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) + " bytes");
         }
         split_tokens(line, tokens);
         if (!tokens.empty()) return true;

@@ -25,12 +25,6 @@ namespace {
 // Header lines are short ("property list uchar int vertex_indices"); a longer one means the
 // header is missing its end and we are reading binary data.
 constexpr std::size_t kMaxHeaderLine = 64 * 1024;
-// Ascii body lines hold one row; the cap only stops a file with no newlines from being read
-// into one string before it is rejected.
-constexpr std::size_t kMaxBodyLine = std::size_t{1} << 30;
-
-// What may follow the last element: line ends or padding some writers add after the data.
-bool is_trailing_filler(unsigned char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\0'; }
 
 class PlyReader {
  public:
@@ -295,17 +289,10 @@ class PlyReader {
   }
 
   void check_binary_end() {
-    unsigned char chunk[4096];
     const std::uint64_t extra = source_.remaining();
-    for (;;) {
-      const std::size_t got = source_.read(chunk, sizeof chunk);
-      if (got == 0) return;
-      for (std::size_t i = 0; i < got; ++i) {
-        if (!is_trailing_filler(chunk[i])) {
-          fail(std::to_string(extra) + " bytes of data after the last element '" + impl_->header.elements.back().name +
-               "' (do the header's counts match the data?)");
-        }
-      }
+    if (!source_.rest_is_filler()) {
+      fail(std::to_string(extra) + " bytes of data after the last element '" + impl_->header.elements.back().name +
+           "' (do the header's counts match the data?)");
     }
   }
 
@@ -314,11 +301,11 @@ class PlyReader {
   // Reads the next non-blank line into line_. Returns false at the end of the file.
   bool next_data_line() {
     for (;;) {
-      const ByteSource::LineStatus status = source_.read_line(line_, kMaxBodyLine);
+      const ByteSource::LineStatus status = source_.read_line(line_, ByteSource::kMaxBodyLine);
       if (status == ByteSource::LineStatus::end_of_file) return false;
       ++line_number_;
       if (status == ByteSource::LineStatus::too_long) {
-        fail("line " + std::to_string(line_number_) + ": longer than " + std::to_string(kMaxBodyLine) + " bytes");
+        fail("line " + std::to_string(line_number_) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) + " bytes");
       }
       split_tokens(line_, tokens_);
       if (!tokens_.empty()) return true;
