@@ -202,4 +202,34 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
 #endif
 }
 
+/* PNF_TRANSPOSE16: on the 16-lane kernel, a step's 16 neighbours are gathered as four
+ * float16 of four rows each and transposed by shuffles (pnf_gather16), rather than lane by lane.
+ * Data movement only: the arithmetic is the shared pnf_accumulate. 4-8% faster on the dog and
+ * the cube in two runs of three, the face unchanged (docs/performance.md). -DPNF_TRANSPOSE16=0
+ * (the bench's --kernel-options) restores the lane-by-lane gather, to measure it. */
+#if defined(__OPENCL_VERSION__) && PNF_LANES == 16
+#ifndef PNF_TRANSPOSE16
+#define PNF_TRANSPOSE16 1
+#endif
+/* Rows a[ids[0..16)] (x, y, z, unused) as their x, y and z columns. */
+PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, float16* x, float16* y, float16* z) {
+  const float16 r0 = (float16)(a[ids[0]], a[ids[1]], a[ids[2]], a[ids[3]]);
+  const float16 r1 = (float16)(a[ids[4]], a[ids[5]], a[ids[6]], a[ids[7]]);
+  const float16 r2 = (float16)(a[ids[8]], a[ids[9]], a[ids[10]], a[ids[11]]);
+  const float16 r3 = (float16)(a[ids[12]], a[ids[13]], a[ids[14]], a[ids[15]]);
+  /* x of rows 0-7 then y of rows 0-7; the same for rows 8-15; z (and the unused w) likewise. */
+  const uint16 xy = (uint16)(0, 4, 8, 12, 16, 20, 24, 28, 1, 5, 9, 13, 17, 21, 25, 29);
+  const uint16 zw = (uint16)(2, 6, 10, 14, 18, 22, 26, 30, 3, 7, 11, 15, 19, 23, 27, 31);
+  const float16 xy01 = shuffle2(r0, r1, xy), xy23 = shuffle2(r2, r3, xy);
+  const float16 zw01 = shuffle2(r0, r1, zw), zw23 = shuffle2(r2, r3, zw);
+  const uint16 lo = (uint16)(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
+  const uint16 hi = (uint16)(8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26, 27, 28, 29, 30, 31);
+  *x = shuffle2(xy01, xy23, lo);
+  *y = shuffle2(xy01, xy23, hi);
+  *z = shuffle2(zw01, zw23, lo);
+}
+#else
+#define PNF_TRANSPOSE16 0
+#endif
+
 #endif /* PNF_COMMON_H */

@@ -144,6 +144,12 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_
   const pnf_offset full = begin + (end - begin) / PNF_LANES * PNF_LANES;
   pnf_real dx[PNF_LANES], dy[PNF_LANES], dz[PNF_LANES], nx[PNF_LANES], ny[PNF_LANES], nz[PNF_LANES];
   for (pnf_offset e = begin; e < full; e += PNF_LANES) {
+#if PNF_TRANSPOSE16
+    float16 px, py, pz, vx, vy, vz;
+    pnf_gather16(positions, indices + e, &px, &py, &pz);
+    pnf_gather16(normals, indices + e, &vx, &vy, &vz);
+    pnf_accumulate(&acc, px - qx, py - qy, pz - qz, vx, vy, vz, (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
+#else
     for (int k = 0; k < PNF_LANES; ++k) {
       pnf_index j = indices[e + k];
       pnf_real4 p = positions[j];
@@ -157,6 +163,7 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_
     }
     pnf_accumulate(&acc, pnf_lane_load(dx), pnf_lane_load(dy), pnf_lane_load(dz), pnf_lane_load(nx),
                    pnf_lane_load(ny), pnf_lane_load(nz), (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
+#endif
   }
 #if PNF_LANES > 1
   if (full < end) {
