@@ -205,7 +205,7 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
 /* PNF_TRANSPOSE16: on the 16-lane kernel, a step's 16 neighbours are gathered as four
  * float16 of four rows each and transposed by shuffles (pnf_gather16), rather than lane by lane.
  * Data movement only: the arithmetic is the shared pnf_accumulate. 4-8% faster on the dog and
- * the cube in two runs of three, the face unchanged (docs/performance.md). -DPNF_TRANSPOSE16=0
+ * the cube in three runs of four, the face unchanged (docs/performance.md). -DPNF_TRANSPOSE16=0
  * (the bench's --kernel-options) restores the lane-by-lane gather, to measure it. */
 #if defined(__OPENCL_VERSION__) && PNF_LANES == 16
 #ifndef PNF_TRANSPOSE16
