@@ -130,6 +130,29 @@ Shape sample_param(const std::string& name, double area, Map map, Density densit
   return shape;
 }
 
+// A cylinder of radius r along z from 0 to `height`, closed by two flat caps, sampled uniformly
+// over its area: a curved face meeting flat ones at 90-degree rims.
+Shape capped_cylinder(const std::string& name, double r, double height, std::size_t points, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0, 1);
+  const double side = 2 * kPi * r * height, cap = kPi * r * r;
+  Shape shape;
+  shape.name = name;
+  shape.area = side + 2 * cap;
+  for (std::size_t i = 0; i < points; ++i) {
+    const double pick = u01(rng) * shape.area, angle = 2 * kPi * u01(rng);
+    if (pick < side) {
+      shape.positions.push_back({r * std::cos(angle), r * std::sin(angle), height * u01(rng)});
+      shape.normals.push_back({std::cos(angle), std::sin(angle), 0});
+    } else {
+      const double radius = r * std::sqrt(u01(rng));
+      const bool top = pick < side + cap;
+      shape.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), top ? height : 0});
+      shape.normals.push_back({0, 0, top ? 1.0 : -1.0});
+    }
+  }
+  return shape;
+}
+
 Shape make_shape(const std::string& name, std::size_t points, unsigned seed) {
   std::mt19937 rng(seed);
   if (name == "plane") return sample_patches(name, {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}}, points, rng);
@@ -168,25 +191,7 @@ Shape make_shape(const std::string& name, std::size_t points, unsigned seed) {
   }
   if (name == "cylinder") {
     // Radius 0.5, height 1, closed by two caps: a curved face meeting flat ones at 90 degrees.
-    constexpr double r = 0.5, height = 1;
-    const double side = 2 * kPi * r * height, cap = kPi * r * r;
-    std::uniform_real_distribution<double> u01(0, 1);
-    Shape shape;
-    shape.name = name;
-    shape.area = side + 2 * cap;
-    for (std::size_t i = 0; i < points; ++i) {
-      const double pick = u01(rng) * shape.area, angle = 2 * kPi * u01(rng);
-      if (pick < side) {
-        shape.positions.push_back({r * std::cos(angle), r * std::sin(angle), height * u01(rng)});
-        shape.normals.push_back({std::cos(angle), std::sin(angle), 0});
-      } else {
-        const double radius = r * std::sqrt(u01(rng));
-        const bool top = pick < side + cap;
-        shape.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), top ? height : 0});
-        shape.normals.push_back({0, 0, top ? 1.0 : -1.0});
-      }
-    }
-    return shape;
+    return capped_cylinder(name, 0.5, 1, points, rng);
   }
   if (name == "torus") {
     constexpr double big = 1, small = 0.35;
@@ -221,26 +226,8 @@ Shape make_crease(double degrees, std::size_t points, unsigned seed) {
 // A long capped cylinder (radius 0.25, height 2: other proportions than the tuned "cylinder"):
 // a curved face with two 90-degree rims, 3.1 of crease length in an area of 3.5.
 Shape make_long_cylinder(std::size_t points, unsigned seed) {
-  constexpr double r = 0.25, height = 2;
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u01(0, 1);
-  const double side = 2 * kPi * r * height, cap = kPi * r * r;
-  Shape shape;
-  shape.name = "longcyl";
-  shape.area = side + 2 * cap;
-  for (std::size_t i = 0; i < points; ++i) {
-    const double pick = u01(rng) * shape.area, angle = 2 * kPi * u01(rng);
-    if (pick < side) {
-      shape.positions.push_back({r * std::cos(angle), r * std::sin(angle), height * u01(rng)});
-      shape.normals.push_back({std::cos(angle), std::sin(angle), 0});
-    } else {
-      const double radius = r * std::sqrt(u01(rng));
-      const bool top = pick < side + cap;
-      shape.positions.push_back({radius * std::cos(angle), radius * std::sin(angle), top ? height : 0});
-      shape.normals.push_back({0, 0, top ? 1.0 : -1.0});
-    }
-  }
-  return shape;
+  return capped_cylinder("longcyl", 0.25, 2, points, rng);
 }
 
 // A rounded box: 1 x 1 x 0.6, its four vertical edges rounded with radius 0.2 (smooth: tangent
