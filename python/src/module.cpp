@@ -263,6 +263,7 @@ void bind_results(py::module_& m) {
       .def_readonly("crease_length", &DataEstimate::crease_length)
       .def_readonly("curved_share", &DataEstimate::curved_share)
       .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
+      .def_readonly("normal_position_coupling", &DataEstimate::normal_position_coupling)
       .def_property_readonly("position_noise_area_spacings", &DataEstimate::position_noise_area_spacings)
       .def("__repr__", [](const DataEstimate& e) {
         return py::str(

@@ -52,7 +52,9 @@ PointFile from_arrays(py::handle points, py::handle normals, py::handle radii) {
 void write_file(const PointFile& file, py::handle path, bool ascii) {
   const std::string p = path_string(path);
   py::gil_scoped_release nogil;
-  write_point_file(p, file, WriteOptions{ascii});
+  WriteOptions options;
+  options.ascii = ascii;
+  write_point_file(p, file, options);
 }
 
 py::list elements(const PointFile& file) {

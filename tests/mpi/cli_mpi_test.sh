@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `mpirun -np P pnf filter` against one process (README, "Beyond one machine"): output bytes
 # identical except the normals, normals within 1e-3 degrees; the rank-0 path for ascii input;
-# --auto; a truncated file (one rank's slice unreadable), a device error on one rank and a rank
+# --auto (the same kind of choice as one process); a truncated file (one rank's slice unreadable), a device error on one rank and a rank
 # killed in its passes end the job with nothing written and the input untouched.
 # Usage: cli_mpi_test.sh PNF MPIEXEC WORK_DIR
 set -euo pipefail
@@ -43,6 +43,11 @@ python3 "$here/compare_ply.py" a1.ply a3.ply
 echo "== --auto on every rank's slice"
 run -np 2 "$pnf" filter rich.ply auto.ply --auto --device reference 2>auto.log || { cat auto.log; fail "--auto"; }
 grep -q "chose" auto.log || fail "--auto printed no choice"
+# The pooled estimate must lead to the one process's kind of choice: the rule line with its
+# numbers taken out (edges or smooth, flat or curved, sigma_g off or not).
+"$pnf" filter rich.ply auto1.ply --auto --device reference 2>auto1.log || { cat auto1.log; fail "--auto, one process"; }
+kind() { grep -o "chose.*" "$1" | sed 's/[0-9][-0-9.e+]*//g' | tr -s ' '; }
+[ "$(kind auto.log)" = "$(kind auto1.log)" ] || fail "--auto on 2 ranks: $(kind auto.log); one process: $(kind auto1.log)"
 
 echo "== the summary, once"
 run -np 2 "$pnf" filter rich.ply s.ply --device reference 2>summary.log

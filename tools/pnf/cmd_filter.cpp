@@ -74,8 +74,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
   std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
                e.position_noise, e.position_noise_area_spacings());
   if (e.normal_noise_deg >= 0) {
-    std::fprintf(stderr, "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f\n",
-                 e.normal_noise_deg, e.normal_error_correlation);
+    std::fprintf(stderr,
+                 "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f, coupled to the "
+                 "positions %.2f\n",
+                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling);
   }
   std::fprintf(stderr,
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), %.0f%% of the "

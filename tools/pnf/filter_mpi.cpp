@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 
 #include "agreement.hpp"
 #include "cli_common.hpp"
@@ -62,44 +63,54 @@ std::vector<Vec3> gather_normals(MPI_Comm comm, const std::vector<Vec3>& mine, s
 }
 
 // --auto across ranks: each rank estimates the data on its own slice (a few hundred fitted
-// samples each, so every rank's part of the model has its say); the estimates are averaged,
-// weighted by their samples, and every rank applies the one rule to the average.
+// samples each, so every rank's part of the model has its say); every rank pools all the
+// estimates (pnf::pool_estimates) and applies the one rule to the pool.
 AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
   DataEstimate e;
+  e.points = local.size();
   try {
     if (local.size() > 0) e = estimate_data(local);
   } catch (const Error&) {
-    e = DataEstimate{};  // too few points on this rank to estimate: it does not count
+    e = DataEstimate{};  // too few points on this rank to estimate: only its points count
+    e.points = local.size();
   }
-  const double w = double(e.samples);
-  double sums[10] = {w,
-                    w * e.area_spacing,
-                    w * e.position_noise,
-                    w * e.normal_noise_deg,
-                    w * e.feature_share,
-                    w * e.curved_share,
-                    w * e.normal_error_correlation,
-                    w * e.fit_radius,
-                    double(local.size()),
-                    w * e.mean_radius};
-  MPI_Allreduce(MPI_IN_PLACE, sums, 10, MPI_DOUBLE, MPI_SUM, comm);
-  int neighbours = e.fit_neighbours;
-  MPI_Allreduce(MPI_IN_PLACE, &neighbours, 1, MPI_INT, MPI_MAX, comm);
-  if (!(sums[0] > 0)) throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data");
-  DataEstimate all;
-  all.samples = std::size_t(sums[0]);
-  all.points = std::size_t(sums[8]);
-  all.area_spacing = sums[1] / sums[0];
-  all.mean_radius = sums[9] / sums[0];
-  all.radius_source = e.radius_source;
-  all.position_noise = sums[2] / sums[0];
-  all.normal_noise_deg = sums[3] / sums[0];
-  all.feature_share = sums[4] / sums[0];
-  all.curved_share = sums[5] / sums[0];
-  all.normal_error_correlation = sums[6] / sums[0];
-  all.fit_radius = sums[7] / sums[0];
-  all.fit_neighbours = neighbours;
-  return choose_filter_params(all);
+  // Every field as a double (all of them are exact in one: counts stay far below 2^53).
+  constexpr int kFields = 16;
+  const double mine[kFields] = {double(e.points),       double(e.samples),         e.mean_radius,
+                                double(int(e.radius_source)), e.area_spacing,     e.position_noise,
+                                e.normal_noise_deg,     double(e.fit_neighbours),  e.fit_radius,
+                                e.feature_share,        e.crease_length,           double(e.edge_samples),
+                                double(e.feature_samples), e.curved_share,         e.normal_error_correlation,
+                                e.normal_position_coupling};
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<double> all(std::size_t(ranks) * kFields);
+  MPI_Allgather(mine, kFields, MPI_DOUBLE, all.data(), kFields, MPI_DOUBLE, comm);
+  std::vector<DataEstimate> parts(static_cast<std::size_t>(ranks));
+  for (int r = 0; r < ranks; ++r) {
+    const double* f = all.data() + std::size_t(r) * kFields;
+    DataEstimate& p = parts[std::size_t(r)];
+    p.points = std::size_t(f[0]);
+    p.samples = std::size_t(f[1]);
+    p.mean_radius = f[2];
+    p.radius_source = RadiusSource(int(f[3]));
+    p.area_spacing = f[4];
+    p.position_noise = f[5];
+    p.normal_noise_deg = f[6];
+    p.fit_neighbours = int(f[7]);
+    p.fit_radius = f[8];
+    p.feature_share = f[9];
+    p.crease_length = f[10];
+    p.edge_samples = std::size_t(f[11]);
+    p.feature_samples = std::size_t(f[12]);
+    p.curved_share = f[13];
+    p.normal_error_correlation = f[14];
+    p.normal_position_coupling = f[15];
+  }
+  bool any = false;
+  for (const DataEstimate& p : parts) any = any || p.samples > 0;
+  if (!any) throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data");
+  return choose_filter_params(pool_estimates(parts));
 }
 
 void print_summary(const DistributedFilterRun& run, const FilterParams& params, const mpi::DistributedSummary& s,
@@ -197,7 +208,9 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
       agree.run([&] {
         if (rank != 0) return;
         whole.set_normals(all);
-        write_point_file(run.out, whole, WriteOptions{run.ascii});
+        WriteOptions write;
+        write.ascii = run.ascii;
+        write_point_file(run.out, whole, write);
       });
     }
     if (rank == 0 && !run.quiet) print_summary(run, params, summary, sliced, read_s, seconds_since(t));

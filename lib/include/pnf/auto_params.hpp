@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "pnf/cloud_view.hpp"
 #include "pnf/filter_params.hpp"
@@ -70,6 +71,14 @@ struct DataEstimate {
   // normals from small neighbourhoods (PCA over 16 points), 0.2-0.6 for normals already smoothed
   // over several spacings (PCA over 64), whose errors averaging cannot remove. 0 without normals.
   double normal_error_correlation = 0;
+  // How much the input normals' errors follow the positions: the correlation (-1..1), over the
+  // smooth samples, of each input normal's deviation from the fitted quadric's normal with the
+  // deviation of a PCA normal over the sample's 16 nearest points. Near 1 for normals estimated
+  // from these very positions by PCA over few neighbours, lower the more neighbours they
+  // averaged; near 0 for normals whose errors are independent of the positions (from a scanner,
+  // a mesh, or jittered), for which a neighbour's plane is off by its distance times its normal's
+  // error. 0 without normals.
+  double normal_position_coupling = 0;
 
   // position_noise / area_spacing (the rule's p), or 0 when area_spacing is 0.
   double position_noise_area_spacings() const { return area_spacing > 0 ? position_noise / area_spacing : 0.0; }
@@ -86,6 +95,14 @@ struct DataEstimate {
 // when the mean radius cannot be estimated.
 // Thread safety: may be called concurrently.
 DataEstimate estimate_data(const CloudView& cloud);
+
+// One estimate of a whole cloud from the estimates of its parts (a distributed run's ranks, each
+// estimating its own slice): the points, samples and edge fits add up; the crease lengths add
+// up as lengths (each part's is per the square root of its own area); the mean radius is
+// averaged over the points; every other field is averaged, weighted by the samples. Parts with
+// no samples count only their points. Throws pnf::Error(invalid_input) when no part has samples.
+// Thread safety: pure function.
+DataEstimate pool_estimates(const std::vector<DataEstimate>& parts);
 
 // The outcome of the rule: parameters ready for NormalFilter::run, what they came from, and the
 // rule as one line of text for reports.

@@ -71,6 +71,10 @@ constexpr double kCurvedPerSpacing = 0.015;
 // this many spacings of it: PCA normals from 16 neighbours (a radius of about 2.3 spacings) share
 // little there, from 64 (4.5 spacings) most of their neighbours.
 constexpr double kCorrelationReachSpacings = 2.5;
+// The positions' own normal at a sample, to which the input normal's error is compared for the
+// coupling: PCA over this many nearest points (the sample included), the smallest common PCA
+// neighbourhood, whose error is mostly the noise of the positions near the sample.
+constexpr int kCouplingNeighbours = 16;
 // A quadric has 6 coefficients; ask for twice as many points for a stable residual.
 constexpr int kMinFitPoints = 12;
 // The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
@@ -98,6 +102,12 @@ struct SampleFit {
   // and |e_sample| |e_point|, e being an input normal minus the quadric's normal at that point.
   double error_dot = 0;
   double error_magnitudes = 0;
+  // e_input . e_positions, |e_input|^2 and |e_positions|^2 at the sample: e_input its input normal
+  // minus the quadric's, e_positions a PCA normal of its kCouplingNeighbours nearest points minus
+  // the quadric's (for DataEstimate::normal_position_coupling).
+  double coupling_dot = 0;
+  double coupling_input_squared = 0;
+  double coupling_positions_squared = 0;
 };
 
 double median(std::vector<double> values) {
@@ -107,13 +117,36 @@ double median(std::vector<double> values) {
   return *middle;
 }
 
+// The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` (PCA), on
+// the side of `side`; zero when fewer points are there or they span no plane.
+Eigen::Vector3d nearest_points_normal(const std::vector<Eigen::Vector3d>& offsets, const double* squared_distances,
+                                      int count, const Eigen::Vector3d& side) {
+  if (count < kCouplingNeighbours) return Eigen::Vector3d::Zero();
+  std::vector<int> order(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) order[std::size_t(k)] = k;
+  std::nth_element(order.begin(), order.begin() + (kCouplingNeighbours - 1), order.end(),
+                   [&](int a, int b) { return squared_distances[a] < squared_distances[b]; });
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k = 0; k < kCouplingNeighbours; ++k) centroid += offsets[std::size_t(order[std::size_t(k)])];
+  centroid /= double(kCouplingNeighbours);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < kCouplingNeighbours; ++k) {
+    const Eigen::Vector3d o = offsets[std::size_t(order[std::size_t(k)])] - centroid;
+    covariance += o * o.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  if (!(eigen.eigenvalues()(1) > 0)) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  return normal.dot(side) < 0 ? Eigen::Vector3d(-normal) : normal;
+}
+
 // Fits the neighbourhood `ids` (the sample itself included) of sample `self`: a PCA frame, then
 // a quadric height field w(u, v) over the points of the cylinder of radius
 // kCylinderFraction * (distance to the farthest neighbour) around the frame's axis through the
 // sample. The cylinder is symmetric about the sample, so the quadric's slope there is not biased
 // by curvature (the even terms are orthogonal to the odd ones). With normals, also compares the
 // input normals with the quadric's: at the sample (angle_deg) and, for the correlation of the
-// errors, at the points near it.
+// errors, at the points near it; and with a PCA normal of the nearest points (the coupling).
 SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
                      const std::size_t* ids, const double* squared_distances, int count) {
   SampleFit fit;
@@ -190,6 +223,13 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
     if (input.squaredNorm() > 0) {
       fit.angle_deg = angle_degrees({surface.x(), surface.y(), surface.z()}, {input.x(), input.y(), input.z()});
       const Eigen::Vector3d error = input - surface;
+      const Eigen::Vector3d from_positions = nearest_points_normal(offsets, squared_distances, count, surface);
+      if (from_positions.squaredNorm() > 0) {
+        const Eigen::Vector3d positions_error = from_positions - surface;
+        fit.coupling_dot = error.dot(positions_error);
+        fit.coupling_input_squared = error.squaredNorm();
+        fit.coupling_positions_squared = positions_error.squaredNorm();
+      }
       const double reach = kCorrelationReachSpacings * fit.area_spacing;
       for (int k = 0; k < count; ++k) {
         if (ids[k] == self) continue;
@@ -336,6 +376,16 @@ DataEstimate estimate_data(const CloudView& cloud) {
       magnitudes += f.error_magnitudes;
     }
     estimate.normal_error_correlation = magnitudes > 0 ? dot / magnitudes : 0;
+    // Over the clearly smooth fits only: at an edge the quadric's own error is in both terms.
+    double coupling = 0, input_squared = 0, positions_squared = 0;
+    for (const SampleFit& f : fits) {
+      if (f.residual > smooth_residual) continue;
+      coupling += f.coupling_dot;
+      input_squared += f.coupling_input_squared;
+      positions_squared += f.coupling_positions_squared;
+    }
+    const double scale = std::sqrt(input_squared * positions_squared);
+    estimate.normal_position_coupling = scale > 0 ? coupling / scale : 0;
   }
   return estimate;
 }
