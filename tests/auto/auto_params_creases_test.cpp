@@ -190,6 +190,45 @@ TEST(AutoCreases, ChoiceDoesNotDependOnTheSamplingDensity) {
   }
 }
 
+// The surface of the unit cube sampled uniformly at random (`points` samples), Gaussian position
+// noise of `noise` spacings per axis, and the true normals tilted by `rms_degrees` RMS: input
+// normals whose errors are independent of the positions and of each other, as from a scanner or
+// a mesh, unlike PCA's.
+Crease noisy_cube_with_tilted_normals(int points, double noise, double rms_degrees, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u01(0, 1);
+  Crease c;
+  c.spacing = std::sqrt(6.0 / points);
+  std::normal_distribution<double> g(0, noise * c.spacing);
+  for (int i = 0; i < points; ++i) {
+    const int face = int(6 * u01(rng)) % 6, axis = face / 2;
+    Vec3 p, n = {0, 0, 0};
+    p[axis] = face % 2;
+    n[axis] = face % 2 ? 1 : -1;
+    p[(axis + 1) % 3] = u01(rng);
+    p[(axis + 2) % 3] = u01(rng);
+    c.cloud.positions.push_back({p[0] + g(rng), p[1] + g(rng), p[2] + g(rng)});
+    c.truth.push_back(n);
+    c.cloud.normals.push_back(jitter_normal(n, rms_degrees / std::sqrt(2.0), rng));  // per tangent axis
+  }
+  return c;
+}
+
+// pnf_eval_auto's tuning case "cube n0.5 jitter4": the lines tuned on PCA normals chose sigma_g
+// 0.99 spacings and 8 passes and returned 7.71 deg against 4.00 for the input. The estimate must
+// see that the errors are independent of the positions, and the choice must improve the input.
+TEST(AutoIndependentNormals, NoisyCubeWithTiltedNormalsIsNotMadeWorse) {
+  const Crease c = noisy_cube_with_tilted_normals(20000, 0.5, 4, 23);
+  const AutoChoice choice = choose_filter_params(c.cloud);
+  EXPECT_NE(choice.rule.find("independent"), std::string::npos) << choice.rule;
+  EXPECT_LT(std::fabs(choice.estimate.normal_position_coupling), 0.1) << choice.rule;
+  const double input = rms_line_angle(c.cloud.normals, c.truth);
+  const double filtered = rms_line_angle(fastest_filter().run(c.cloud, choice.params).normals, c.truth);
+  EXPECT_LT(filtered, input) << choice.rule;
+  // Measured 2.0 deg in the evaluation (the grid's best 1.65): well under the input's 4.
+  EXPECT_LT(filtered, 0.75 * input) << choice.rule;
+}
+
 // A distributed run estimates each rank's slice and pools the estimates (pool_estimates). A
 // crease cut along its length into two slices, each half the crease in half the area, must pool
 // to the whole cloud's crease length (a length adds up; an average of the two per-size values

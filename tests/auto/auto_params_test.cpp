@@ -151,6 +151,27 @@ TEST(EstimateData, NormalErrorCorrelationSeesSmoothedNormals) {
   EXPECT_EQ(estimate_data(bare).normal_error_correlation, 0.0) << "no normals, nothing to correlate";
 }
 
+// Whether the input normals' errors follow the positions: PCA normals over 16 neighbours of
+// these very positions near 1, over 64 far less (they average the noise of many more points),
+// the true normals tilted at random near 0.
+TEST(EstimateData, NormalPositionCouplingTellsPcaFromIndependentNormals) {
+  const Noisy tilted = noisy_sphere(20000, 0.25, 4, 12);
+  EXPECT_LT(std::fabs(estimate_data(tilted.cloud).normal_position_coupling), 0.1);
+  auto pca_coupling = [&](int k) {
+    EstimateParams params;
+    params.k = k;
+    Noisy pca = tilted;
+    pca.cloud.normals = estimate_normals(pca.cloud.positions, params);
+    return estimate_data(pca.cloud).normal_position_coupling;
+  };
+  const double pca16 = pca_coupling(16), pca64 = pca_coupling(64);
+  EXPECT_GT(pca16, 0.7);  // measured 0.93 (the evaluation's noisy shapes: 0.85-0.94)
+  EXPECT_LT(pca64, 0.5 * pca16) << "PCA-16 " << pca16 << ", PCA-64 " << pca64;  // measured 0.17
+  PointCloud bare = tilted.cloud;
+  bare.normals.clear();
+  EXPECT_EQ(estimate_data(bare).normal_position_coupling, 0.0) << "no normals, nothing to compare";
+}
+
 // A 90-degree ridge: many samples see the edge; a plane: none.
 TEST(EstimateData, FeatureShareSeesEdges) {
   const DataEstimate ridge = estimate_data(wedge(40, 100, 1.0, 0.3, 6));
@@ -230,7 +251,8 @@ TEST(EstimateData, BadCloudsAreErrors) {
 
 // ---- the rule -----------------------------------------------------------------------------
 
-// A shape with sharp edges (crease length 0.3 per size, twice the smooth line), as the estimator reports one.
+// A shape with sharp edges (crease length 0.3 per size, twice the smooth line), as the estimator
+// reports one, with PCA normals over few neighbours (their errors follow the positions).
 DataEstimate measured(double noise_spacings, double degrees, double crease_length = 0.3, double curved_share = 0) {
   DataEstimate e;
   e.crease_length = crease_length;
@@ -239,7 +261,37 @@ DataEstimate measured(double noise_spacings, double degrees, double crease_lengt
   e.mean_radius = 2.0;
   e.position_noise = noise_spacings * e.area_spacing;
   e.normal_noise_deg = degrees;
+  e.normal_position_coupling = 0.9;
   return e;
+}
+
+// Input normals whose errors are independent of the positions and of each other (a scanner's):
+// on noisy positions a wide sigma_g and one or two passes, whatever the shape; on clean positions
+// the lines for PCA normals.
+TEST(ChooseFilterParams, IndependentNormalErrorsGetAWideSigmaGAndFewPasses) {
+  auto independent = [](double noise, double degrees, double crease_length, double curved_share) {
+    DataEstimate e = measured(noise, degrees, crease_length, curved_share);
+    e.normal_position_coupling = 0.02;
+    e.normal_error_correlation = 0.01;
+    return e;
+  };
+  const AutoChoice pca = choose_filter_params(measured(0.25, 5));
+  const AutoChoice edges = choose_filter_params(independent(0.25, 5, 0.3, 0));
+  EXPECT_NE(edges.rule.find("independent"), std::string::npos) << edges.rule;
+  EXPECT_GT(edges.params.sigma_g, 2 * pca.params.sigma_g) << edges.rule << "\n" << pca.rule;
+  EXPECT_LT(edges.params.sigma_f, pca.params.sigma_f) << edges.rule << "\n" << pca.rule;
+  EXPECT_EQ(edges.params.iterations, 1) << edges.rule;
+  EXPECT_EQ(choose_filter_params(independent(0.25, 12, 0.3, 0)).params.iterations, 2);
+  const AutoChoice curved = choose_filter_params(independent(0.25, 5, 0, 1));
+  EXPECT_GE(curved.params.sigma_g, 1e5) << curved.rule;
+  const AutoChoice flat = choose_filter_params(independent(0.25, 5, 0, 0));
+  EXPECT_LT(flat.params.sigma_g, 1e5) << "faint creases are kept: " << flat.rule;
+  const AutoChoice clean = choose_filter_params(independent(0.0, 5, 0.3, 0));
+  EXPECT_EQ(clean.rule.find("independent"), std::string::npos) << clean.rule;
+  EXPECT_EQ(clean.params.iterations, 8) << clean.rule;
+  DataEstimate smoothed = independent(0.25, 5, 0.3, 0);  // PCA over many neighbours
+  smoothed.normal_error_correlation = 0.5;
+  EXPECT_EQ(choose_filter_params(smoothed).rule.find("independent"), std::string::npos);
 }
 
 // Up to the noise where the feature term goes off, more noise widens both Gaussians.

@@ -370,13 +370,15 @@ DataEstimate estimate_data(const CloudView& cloud) {
     // fitted to 16 times the points of a PCA normal of 64 neighbours: at the noise scale the fit
     // shares the input normals' neighbours and with them most of their errors, and the
     // correlation measured there was near 0 for PCA-16 and PCA-64 alike.
+    // Over the clearly smooth fits only, as the coupling below: at an edge the quadric's own error
+    // is in every nearby point's error and reads as correlation.
     double dot = 0, magnitudes = 0;
     for (const SampleFit& f : fits) {
+      if (f.residual > smooth_residual) continue;
       dot += f.error_dot;
       magnitudes += f.error_magnitudes;
     }
     estimate.normal_error_correlation = magnitudes > 0 ? dot / magnitudes : 0;
-    // Over the clearly smooth fits only: at an edge the quadric's own error is in both terms.
     double coupling = 0, input_squared = 0, positions_squared = 0;
     for (const SampleFit& f : fits) {
       if (f.residual > smooth_residual) continue;
