@@ -178,6 +178,20 @@ Shape make_shape(const std::string& name, std::size_t points, unsigned seed) {
     }
     return sample_patches(name, patches, points, rng);
   }
+  if (name == "fold") {
+    // A sheet folded twice along parallel lines, at gentle dihedral angles only (125 and 145
+    // degrees): the tuning shape for creases that each pass blurs rather than sharpens (the
+    // held-out family's single creases are at other angles).
+    const double up = 55 * kPi / 180, back = 20 * kPi / 180;
+    const Vec3 p1 = {0.6, 0, 0}, p2 = add(p1, {0.6 * std::cos(up), 0, 0.6 * std::sin(up)});
+    const Vec3 p3 = add(p2, {0.6 * std::cos(back), 0, 0.6 * std::sin(back)});
+    const std::vector<Vec3> profile = {{0, 0, 0}, p1, p2, p3};
+    std::vector<Patch> patches;
+    for (std::size_t i = 0; i + 1 < profile.size(); ++i) {
+      patches.push_back({profile[i], {0, 1, 0}, add(profile[i + 1], scale(profile[i], -1))});
+    }
+    return sample_patches(name, patches, points, rng);
+  }
   if (name == "sphere") {
     std::normal_distribution<double> g(0, 1);
     Shape shape;
@@ -569,17 +583,17 @@ int main(int argc, char** argv) {
   std::printf("%-24s %6s %6s %6s %6s %7s %13s %13s %6s  %s\n", "case", "input", "paper", "gauss", "best", "auto",
               "best setting", "auto setting", "ratio",
               "estimate: spacing/radius, noise in spacings (true), normals deg, features %, curved %, normal error "
-              "correlation, crease length per size, normal-position coupling");
+              "correlation, crease length per size, normal-position coupling, crease sharpness");
 
   std::vector<std::pair<Case, Outcome>> results;
   auto report = [&](Case& c, const Outcome& o) {
     const DataEstimate& e = o.choice.estimate;
-    std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f, %.2f\n",
+    std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f, %.2f, %.3f\n",
                 c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
                 no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
                 e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
                 e.normal_noise_deg, 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation,
-                e.crease_length, e.normal_position_coupling);
+                e.crease_length, e.normal_position_coupling, e.crease_sharpness);
     std::fflush(stdout);
     c.cloud = {};
     c.truth = {};
@@ -589,7 +603,7 @@ int main(int argc, char** argv) {
   if (!no_synthetic) {
     // Seeds follow the shape and the noise level, not the order asked for, so a case has the
     // same points in every selection (and --grid-from finds its grid).
-    const std::vector<std::string> all_shapes = {"plane", "sphere", "cube", "wedges", "cylinder", "torus"};
+    const std::vector<std::string> all_shapes = {"plane", "sphere", "cube", "wedges", "cylinder", "torus", "fold"};
     const std::vector<double> all_noises = {0, 0.25, 0.5};
     for (const std::string& name : shapes) {
       const auto shape_index = std::size_t(std::find(all_shapes.begin(), all_shapes.end(), name) - all_shapes.begin());
@@ -764,7 +778,8 @@ int main(int argc, char** argv) {
           << ", \"normal_noise_deg\": " << e.normal_noise_deg << ", \"feature_share\": " << e.feature_share
           << ", \"curved_share\": " << e.curved_share << ", \"crease_length\": " << e.crease_length
           << ", \"normal_error_correlation\": " << e.normal_error_correlation
-          << ", \"normal_position_coupling\": " << e.normal_position_coupling << ", \"rule\": \""
+          << ", \"normal_position_coupling\": " << e.normal_position_coupling
+          << ", \"crease_sharpness\": " << e.crease_sharpness << ", \"rule\": \""
           << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];

@@ -251,8 +251,9 @@ TEST(EstimateData, BadCloudsAreErrors) {
 
 // ---- the rule -----------------------------------------------------------------------------
 
-// A shape with sharp edges (crease length 0.3 per size, twice the smooth line), as the estimator
-// reports one, with PCA normals over few neighbours (their errors follow the positions).
+// A shape with sharp edges (crease length 0.3 per size, twice the smooth line, and the
+// sharpness of a cube's), as the estimator reports one, with PCA normals over few neighbours
+// (their errors follow the positions).
 DataEstimate measured(double noise_spacings, double degrees, double crease_length = 0.3, double curved_share = 0) {
   DataEstimate e;
   e.crease_length = crease_length;
@@ -262,7 +263,24 @@ DataEstimate measured(double noise_spacings, double degrees, double crease_lengt
   e.position_noise = noise_spacings * e.area_spacing;
   e.normal_noise_deg = degrees;
   e.normal_position_coupling = 0.9;
+  e.crease_sharpness = 0.1;
   return e;
+}
+
+// Flat faces between sharp creases gain from every pass; between gentle ones (a fold of 125 and
+// 145 degrees) the later passes blur the creases, and fewer are run.
+TEST(ChooseFilterParams, GentleCreasesGetFewerPasses) {
+  for (double noise : {0.0, 0.1, 0.25}) {
+    DataEstimate e = measured(noise, 5);
+    const AutoChoice sharp = choose_filter_params(e);
+    e.crease_sharpness = 0.045;
+    const AutoChoice gentle = choose_filter_params(e);
+    EXPECT_EQ(sharp.params.iterations, 8) << sharp.rule;
+    EXPECT_EQ(gentle.params.iterations, 4) << gentle.rule;
+    EXPECT_NE(gentle.rule.find("gentle creases"), std::string::npos) << gentle.rule;
+    EXPECT_EQ(gentle.params.sigma_f, sharp.params.sigma_f);
+    EXPECT_EQ(gentle.params.sigma_g, sharp.params.sigma_g);
+  }
 }
 
 // Input normals whose errors are independent of the positions and of each other (a scanner's):

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 namespace pnf::detail {
@@ -35,6 +36,21 @@ TEST(CreaseEvidence, FourTimesDenserMeasuresTheSame) {
   const double b = crease_evidence(dense, 0.5, 40000, 0.005).length_per_size;
   EXPECT_DOUBLE_EQ(a, b);
   EXPECT_GT(a, 0);
+}
+
+// The sharpness: the median edge fit's residual, the noise taken out in quadrature, over the fit
+// radius. Edge residuals 0.2, 0.3 (the median of three), 0.5 with noise 0.1 and radius 0.05:
+// sqrt(0.09 - 0.01) / 0.05. Fits under the edge residual do not count.
+TEST(CreaseEvidence, SharpnessIsTheMedianKinkOverTheFitRadius) {
+  CreaseFits fits;
+  fits.residuals = {0.01, 0.5, 0.2, 0.02, 0.3};
+  fits.fit_radius = 0.05;
+  fits.noise = 0.1;
+  const CreaseEvidence e = crease_evidence(fits, 0.15, 10000, 0.01);
+  EXPECT_EQ(e.edge_samples, 3u);
+  EXPECT_NEAR(e.sharpness, std::sqrt(0.08) / 0.05, 1e-12);
+  fits.residuals = {0.01, 0.02};
+  EXPECT_EQ(crease_evidence(fits, 0.15, 10000, 0.01).sharpness, 0.0) << "no edge fits";
 }
 
 TEST(CreaseEvidence, NothingToJudgeIsNoCrease) {

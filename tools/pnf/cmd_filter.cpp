@@ -80,9 +80,9 @@ void print_auto(const AutoChoice& choice, double seconds) {
                  e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling);
   }
   std::fprintf(stderr,
-               "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), %.0f%% of the "
-               "smooth ones curved\n",
-               e.crease_length, 100 * e.feature_share, 100 * e.curved_share);
+               "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "
+               "%.0f%% of the smooth ones curved\n",
+               e.crease_length, 100 * e.feature_share, e.crease_sharpness, 100 * e.curved_share);
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
 }
 

@@ -75,13 +75,13 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
     e.points = local.size();
   }
   // Every field as a double (all of them are exact in one: counts stay far below 2^53).
-  constexpr int kFields = 16;
+  constexpr int kFields = 17;
   const double mine[kFields] = {double(e.points),       double(e.samples),         e.mean_radius,
                                 double(int(e.radius_source)), e.area_spacing,     e.position_noise,
                                 e.normal_noise_deg,     double(e.fit_neighbours),  e.fit_radius,
                                 e.feature_share,        e.crease_length,           double(e.edge_samples),
                                 double(e.feature_samples), e.curved_share,         e.normal_error_correlation,
-                                e.normal_position_coupling};
+                                e.normal_position_coupling, e.crease_sharpness};
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   std::vector<double> all(std::size_t(ranks) * kFields);
@@ -106,6 +106,7 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
     p.curved_share = f[13];
     p.normal_error_correlation = f[14];
     p.normal_position_coupling = f[15];
+    p.crease_sharpness = f[16];
   }
   bool any = false;
   for (const DataEstimate& p : parts) any = any || p.samples > 0;

@@ -38,6 +38,15 @@ constexpr double kSigmaGPerNoise = 1.5;
 // the edges further and nothing bends away from the neighbours' planes); cube and wedges optima.
 constexpr double kFlatEdgesSigmaF = 6.5;
 constexpr int kFlatEdgesPasses = 8;
+// ... but gentle creases blur with each pass where sharp ones sharpen: a neighbour's plane across
+// a gentle crease stays within sigma_g of points near it, and every pass widens the band that
+// mixes both sides. Creases whose sharpness (DataEstimate::crease_sharpness) is under this get
+// fewer passes: the tuning shape "fold" (125 and 145 degrees, 0.046-0.050) wanted 4 (8 cost it
+// 6-15% at 0-0.25 spacings of noise), the cube (0.100-0.126) and the wedges (a 90-degree ridge,
+// a 60-degree valley and 135-degree creases: 0.073-0.145) 8 (4 cost them up to 13% clean). The
+// line sits between the two groups.
+constexpr double kGentleCreaseSharpness = 0.06;
+constexpr int kGentleFlatEdgesPasses = 4;
 // Curved faces between edges: sigma_f grows with the noise, since more neighbours average more of
 // it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
 // distance (fandisk and cylinder optima: 1.6 spacings clean, 3-4 at p = 0.25-0.5, 12 at 2) ...
@@ -198,7 +207,10 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
     if (!curved) {
       p.sigma_f = kFlatEdgesSigmaF;
-      p.iterations = kFlatEdgesPasses;
+      const bool gentle = estimate.crease_sharpness < kGentleCreaseSharpness;
+      p.iterations = gentle ? kGentleFlatEdgesPasses : kFlatEdgesPasses;
+      why += gentle ? ", gentle creases (sharpness " : ", sharp creases (sharpness ";
+      why += format("%.3f", estimate.crease_sharpness) + ")";
     } else {
       p.sigma_f = std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerNoise * noise, kCurvedEdgesSigmaFMax);
       const double passes = noise > 0 ? kCurvedEdgesPassesTimesNoise / noise : kCurvedEdgesMaxPasses;

@@ -11,6 +11,7 @@ namespace pnf::detail {
 struct CreaseFits {
   std::vector<double> residuals;  // each sample's fit residual, model units
   double fit_radius = 0;          // the cylinder radius of those fits (their median), model units
+  double noise = 0;               // the position noise, model units (taken out of the residuals)
 };
 
 struct CreaseEvidence {
@@ -23,6 +24,10 @@ struct CreaseEvidence {
   // The share of a band falls as 1 / sqrt(points) when the same surface is sampled more densely
   // (the fit radius is a fixed number of spacings); L / sqrt(area) does not.
   double length_per_size = 0;
+  // How sharply the creases bend (DataEstimate::crease_sharpness): the median over the edge fits
+  // of the residual the crease leaves, sqrt(residual^2 - noise^2), over the fit radius. A fit's
+  // quadric absorbs part of a kink; what it leaves grows with the bend: 0 without edge fits.
+  double sharpness = 0;
 };
 
 // `fits` at the scale where features are judged; `edge_residual` the residual above which a fit

@@ -347,9 +347,11 @@ DataEstimate estimate_data(const CloudView& cloud) {
     detail::CreaseFits crease_fits;
     for (const SampleFit& f : fits) crease_fits.residuals.push_back(f.residual);
     crease_fits.fit_radius = medians(fits, &SampleFit::radius);
+    crease_fits.noise = estimate.position_noise;
     const detail::CreaseEvidence evidence =
         detail::crease_evidence(crease_fits, edge_residual, count, estimate.area_spacing);
     estimate.crease_length = evidence.length_per_size;
+    estimate.crease_sharpness = evidence.sharpness;
     estimate.edge_samples = evidence.edge_samples;
     estimate.feature_samples = evidence.samples;
   }

@@ -11,7 +11,7 @@ namespace pnf {
 DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
   DataEstimate all;
   double samples = 0, points_weighted_radius = 0, surface_area = 0, crease = 0;
-  double spacing = 0, noise = 0, normal_noise = 0, curved = 0, correlation = 0, coupling = 0, fit_radius = 0;
+  double sharpness = 0, spacing = 0, noise = 0, normal_noise = 0, curved = 0, correlation = 0, coupling = 0, fit_radius = 0;
   bool normals = true;
   for (const DataEstimate& e : parts) {
     all.points += e.points;
@@ -29,6 +29,7 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
     fit_radius += w * e.fit_radius;
     all.fit_neighbours = std::max(all.fit_neighbours, e.fit_neighbours);
     all.edge_samples += e.edge_samples;
+    sharpness += double(e.edge_samples) * e.crease_sharpness;  // a median over the edge fits
     all.feature_samples += e.feature_samples;
     // The mean radius is a mean over points; the crease length a length, which adds up over the
     // parts (each part's crease_length is per the square root of its own area).
@@ -50,6 +51,7 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
   all.normal_position_coupling = coupling / samples;
   all.fit_radius = fit_radius / samples;
   all.feature_share = all.feature_samples > 0 ? double(all.edge_samples) / double(all.feature_samples) : 0;
+  all.crease_sharpness = all.edge_samples > 0 ? sharpness / double(all.edge_samples) : 0;
   all.crease_length = surface_area > 0 ? crease / std::sqrt(surface_area) : 0;
   return all;
 }
