@@ -280,6 +280,8 @@ TEST(ChooseFilterParams, GentleCreasesGetFewerPasses) {
     EXPECT_NE(gentle.rule.find("gentle creases"), std::string::npos) << gentle.rule;
     EXPECT_EQ(gentle.params.sigma_f, sharp.params.sigma_f);
     EXPECT_EQ(gentle.params.sigma_g, sharp.params.sigma_g);
+    e.normal_noise_deg = 12;
+    EXPECT_EQ(choose_filter_params(e).params.iterations, 8) << "far-off normals need every pass";
   }
 }
 

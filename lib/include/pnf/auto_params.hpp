@@ -74,9 +74,11 @@ struct DataEstimate {
   // spacing (a radius under about 67 spacings): near 0 on planes and polyhedra, near 1 on spheres.
   double curved_share = 0;
   // How alike the errors of nearby input normals are: the correlation (-1..1) of the input normals'
-  // deviations from the fitted quadrics' normals, between points within 2.5 spacings. Near 0 for
-  // normals from small neighbourhoods (PCA over 16 points), 0.2-0.6 for normals already smoothed
-  // over several spacings (PCA over 64), whose errors averaging cannot remove. 0 without normals.
+  // deviations from the fitted quadrics' normals, between points within 2.5 spacings, over the
+  // clearly smooth fits (at an edge the quadric's own error would read as correlation). Near 0
+  // for independent errors, about 0.02-0.3 for normals from small neighbourhoods (PCA over 16
+  // points), 0.2-0.7 for normals already smoothed over several spacings (PCA over 64), whose
+  // errors averaging cannot remove. 0 without normals.
   double normal_error_correlation = 0;
   // How much the input normals' errors follow the positions: the correlation (-1..1), over the
   // smooth samples, of each input normal's deviation from the fitted quadric's normal with the
@@ -125,7 +127,12 @@ struct AutoChoice {
 // crease_length >= 0.15 (not a share of the samples, which falls as the density grows) and
 // "curved" curved_share >= 15%:
 //   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
-//   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes;
+//   input normals whose errors are independent of the positions (normal_position_coupling and
+//   normal_error_correlation both under 0.35) on noisy positions (p >= 0.05): sigma_g 2, one
+//   pass (two from normal_noise_deg 9 up); sigma_f 4 with edges, 8 without (smooth curved:
+//   feature term off; smooth flat: 4 passes);
+//   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes (4 between gentle creases,
+//   crease_sharpness under 0.06, when normal_noise_deg is under 9);
 //   edges, curved faces: sigma_f min(1.6 + 5 p, 12), sigma_g 0.2 + 1.5 p, floor(1.1 / p) passes
 //     within [2, 8];
 //   smooth, flat: sigma_f 8, sigma_g 0.2 + 3 p (pnf's rule, not the paper's: a crease too faint

@@ -44,9 +44,13 @@ constexpr int kFlatEdgesPasses = 8;
 // fewer passes: the tuning shape "fold" (125 and 145 degrees, 0.046-0.050) wanted 4 (8 cost it
 // 6-15% at 0-0.25 spacings of noise), the cube (0.100-0.126) and the wedges (a 90-degree ridge,
 // a 60-degree valley and 135-degree creases: 0.073-0.145) 8 (4 cost them up to 13% clean). The
-// line sits between the two groups.
+// line sits between the two groups. Not where the input normals are far off (from this RMS angle
+// up): with a tight sigma_g each pass accepts only the neighbours whose planes pass near the
+// point, and badly tilted normals need all 8 passes to settle (clean fold, 12-degree tilts: 3.8
+// times the grid's best at 4 passes, 1.0 at 8).
 constexpr double kGentleCreaseSharpness = 0.06;
 constexpr int kGentleFlatEdgesPasses = 4;
+constexpr double kGentleMaxNormalNoiseDeg = 9.0;
 // Curved faces between edges: sigma_f grows with the noise, since more neighbours average more of
 // it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
 // distance (fandisk and cylinder optima: 1.6 spacings clean, 3-4 at p = 0.25-0.5, 12 at 2) ...
@@ -207,7 +211,8 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
     if (!curved) {
       p.sigma_f = kFlatEdgesSigmaF;
-      const bool gentle = estimate.crease_sharpness < kGentleCreaseSharpness;
+      const bool gentle =
+          estimate.crease_sharpness < kGentleCreaseSharpness && normal_noise < kGentleMaxNormalNoiseDeg;
       p.iterations = gentle ? kGentleFlatEdgesPasses : kFlatEdgesPasses;
       why += gentle ? ", gentle creases (sharpness " : ", sharp creases (sharpness ";
       why += format("%.3f", estimate.crease_sharpness) + ")";
