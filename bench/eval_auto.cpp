@@ -617,37 +617,29 @@ int main(int argc, char** argv) {
                                                                     : shape_seed + 100 + unsigned(noise * 1000);
         std::vector<Vec3> noisy = shape.positions;
         add_noise(noisy, noise * spacing, noise_seed);
-        for (int k : pca_ks) {
+        // One case of these positions with `normals` as input, named "<shape> n<noise> <source>".
+        auto run_case = [&](const std::string& source, std::vector<Vec3> normals, int pca_neighbours) {
           Case c;
           char label[64];
-          std::snprintf(label, sizeof label, "%s n%.2g pca%d", name.c_str(), noise, k);
+          std::snprintf(label, sizeof label, "%s n%.2g %s", name.c_str(), noise, source.c_str());
           c.name = label;
           c.family = "synthetic";
           std::snprintf(label, sizeof label, "%.2g", noise);
           c.noise_label = label;
-          c.pca_neighbours = k;
+          c.pca_neighbours = pca_neighbours;
           c.cloud.positions = noisy;
-          c.cloud.normals = pca_normals(noisy, shape.normals, k);
+          c.cloud.normals = std::move(normals);
           c.truth = shape.normals;
           c.true_spacing = spacing;
           c.true_noise = noise * spacing;
           report(c, evaluate(filter, c, !no_grid, grid_files, kFullGrid, estimate_only));
-        }
+        };
+        for (int k : pca_ks) run_case("pca" + std::to_string(k), pca_normals(noisy, shape.normals, k), k);
         for (double degrees : jitters) {
           if (!(degrees > 0)) continue;
-          Case c;
-          char label[64];
-          std::snprintf(label, sizeof label, "%s n%.2g jitter%g", name.c_str(), noise, degrees);
-          c.name = label;
-          c.family = "synthetic";
-          std::snprintf(label, sizeof label, "%.2g", noise);
-          c.noise_label = label;
-          c.cloud.positions = noisy;
-          c.cloud.normals = jittered_normals(shape.normals, degrees, noise_seed + 50 + unsigned(degrees));
-          c.truth = shape.normals;
-          c.true_spacing = spacing;
-          c.true_noise = noise * spacing;
-          report(c, evaluate(filter, c, !no_grid, grid_files, kFullGrid, estimate_only));
+          char source[32];
+          std::snprintf(source, sizeof source, "jitter%g", degrees);
+          run_case(source, jittered_normals(shape.normals, degrees, noise_seed + 50 + unsigned(degrees)), 0);
         }
       }
     }

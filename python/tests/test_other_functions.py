@@ -43,6 +43,8 @@ def test_choose_params_reports_what_it_measured():
     assert 0.8 * spacing < choice.estimate.area_spacing < 1.25 * spacing
     assert choice.estimate.points == len(points) and choice.estimate.normal_noise_deg > 0
     assert choice.estimate.feature_share > 0.05  # a cube has edges
+    assert choice.estimate.crease_length > 0.15 and choice.estimate.crease_sharpness > 0
+    assert -1 <= choice.estimate.normal_position_coupling <= 1
     assert "sigma_f" in choice.rule
     assert set(choice.kwargs) == {"sigma_f", "sigma_g", "iterations", "units", "mean_radius", "stop_change_deg"}
     without = pnf.choose_params(points)
