@@ -1,7 +1,7 @@
 // pnf_eval_auto: how `--auto` (pnf/auto_params.hpp) compares with the paper's settings and with
 // the best fixed setting of a coarse grid, on clouds whose true normals are known.
 //
-// Cases: synthetic shapes (plane, sphere, cube, wedges, cylinder, torus; about 20k points sampled
+// Cases: synthetic shapes (plane, sphere, cube, wedges, cylinder, torus, fold; about 20k points sampled
 // uniformly at random over their area) with Gaussian position noise of 0, 0.25 and 0.5 spacings
 // per axis and PCA input normals from 16 and 64 neighbours, or the true normals tilted by 4 or 12
 // degrees RMS (independent errors, as a scanner's); and the PCPNet fandisk (100k points,
@@ -513,7 +513,7 @@ int main(int argc, char** argv) {
   bool quick = false, no_grid = false, no_synthetic = false, no_fandisk = false;
   std::size_t points = 20000;
   std::string json_path, backend = "opencl", device, data_dir = PNF_SHARED_DATA_DIR;
-  std::vector<std::string> shapes = {"plane", "sphere", "cube", "wedges", "cylinder", "torus"};
+  std::vector<std::string> shapes = {"plane", "sphere", "cube", "wedges", "cylinder", "torus", "fold"};
   std::vector<double> noises = {0, 0.25, 0.5};
   std::vector<int> pca_ks = {16, 64};
   // Input normals whose errors are independent of the positions (a scanner's, a mesh's): the true
