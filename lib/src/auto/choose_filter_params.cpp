@@ -14,8 +14,9 @@ namespace {
 
 // The rule's constants (docs/auto.md shows the evaluation they come from). Sigmas in area
 // spacings (DataEstimate::area_spacing, the unit they were tuned in), p = position noise / area
-// spacing. Four kinds of data, by the estimate's crease length (edges or not)
-// and curved share (a plane or polyhedron, or curved surfaces):
+// spacing. Four kinds of data, by the estimate's crease length (edges or not) and curved share
+// (a plane or polyhedron, or curved surfaces), each with lines for input normals estimated from
+// the positions (PCA) and one for normals whose errors are independent of them:
 //
 // Less crease than this (DataEstimate::crease_length: crease length over the square root of the
 // area, which does not change with the sampling density, unlike the share of samples at an edge
@@ -102,7 +103,7 @@ constexpr double kCoherentSigmaF = 3.3;
 // Input normals whose errors are independent of the positions and of each other (from a scanner,
 // a mesh, or jittered: issue 14's held-out family has such cases; the tuning cases for this line
 // are the synthetic shapes with the true normals tilted by 4 and 12 degrees RMS, pnf_eval_auto
-// --jitter). The σg lines above follow the spread of a neighbour's plane when the normals were
+// --jitter). The sigma_g lines above follow the spread of a neighbour's plane when the normals were
 // fitted to the same noisy positions; with independent normals and noisy positions they cost
 // up to 4.7 times the grid's best and made cubes and wedges worse than their input (7.7 against
 // 4.0 deg). Told apart by both measures of where the errors come from staying low: PCA normals
