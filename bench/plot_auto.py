@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 # The targets for fandisk with PCA-112 input normals, by noise level.
 FANDISK_TARGETS = {"0%": 5.6, "0.125%": 7.4, "0.6%": 14.4, "1.2%": 22.6}
-SERIES = [("input", "input (PCA)", "#bbbbbb"), ("paper", "paper 4/0.5/4", "#e08050"),
+SERIES = [("input", "input", "#bbbbbb"), ("paper", "paper 4/0.5/4", "#e08050"),
           ("best", "best of grid", "#5080c0"), ("auto", "--auto", "#40a040")]
 
 
@@ -42,17 +42,26 @@ def main():
         sys.exit("usage: plot_auto.py EVAL.json OUT.png")
     with open(sys.argv[1]) as f:
         cases = json.load(f)["cases"]
-    synthetic = [c for c in cases if c["family"] == "synthetic"]
+    synthetic = [c for c in cases if c["family"] == "synthetic" and "jitter" not in c["name"]]
+    jittered = [c for c in cases if c["family"] == "synthetic" and "jitter" in c["name"]]
     fandisk = [c for c in cases if c["family"] == "fandisk"]
-    panels = [p for p in (synthetic, fandisk) if p]
-    widths = [max(len(p), 3) for p in panels]
-    fig, axes = plt.subplots(1, len(panels), figsize=(11, 4), dpi=90, squeeze=False,
-                             gridspec_kw={"width_ratios": widths})
-    for ax, p in zip(axes[0], panels):
-        if p is fandisk:
-            panel(ax, p, "fandisk (- - target)", FANDISK_TARGETS)
-        else:
-            panel(ax, p, "synthetic shapes, 20k points (noise in spacings, PCA neighbours)")
+    top = [p for p in (synthetic, fandisk) if p]
+    rows = [top] + ([[jittered]] if jittered else [])
+    fig = plt.figure(figsize=(11, 4 * len(rows)), dpi=90)
+    grid = fig.add_gridspec(len(rows), 1)
+    axes = []
+    for r, panels in enumerate(rows):
+        sub = grid[r].subgridspec(1, len(panels), width_ratios=[max(len(p), 3) for p in panels])
+        for k, p in enumerate(panels):
+            ax = fig.add_subplot(sub[0, k])
+            axes.append(ax)
+            if p is fandisk:
+                panel(ax, p, "fandisk (- - target)", FANDISK_TARGETS)
+            elif p is jittered:
+                panel(ax, p, "synthetic shapes, true normals tilted at random (4 and 12 deg RMS)")
+            else:
+                panel(ax, p, "synthetic shapes, 20k points (noise in spacings, PCA neighbours)")
+    axes = [axes]
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(sys.argv[2])
