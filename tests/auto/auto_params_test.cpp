@@ -286,8 +286,9 @@ TEST(ChooseFilterParams, GentleCreasesGetFewerPasses) {
 }
 
 // Input normals whose errors are independent of the positions and of each other (a scanner's):
-// on noisy positions a wide sigma_g and one or two passes, whatever the shape; on clean positions
-// the lines for PCA normals.
+// on noisy positions, on shapes with sharp edges or curved faces, a wide sigma_g and one or two
+// passes; on clean positions, and on flat faces with gentle creases or none, the lines for PCA
+// normals.
 TEST(ChooseFilterParams, IndependentNormalErrorsGetAWideSigmaGAndFewPasses) {
   auto independent = [](double noise, double degrees, double crease_length, double curved_share) {
     DataEstimate e = measured(noise, degrees, crease_length, curved_share);
@@ -306,6 +307,14 @@ TEST(ChooseFilterParams, IndependentNormalErrorsGetAWideSigmaGAndFewPasses) {
   EXPECT_GE(curved.params.sigma_g, 1e5) << curved.rule;
   const AutoChoice flat = choose_filter_params(independent(0.25, 5, 0, 0));
   EXPECT_LT(flat.params.sigma_g, 1e5) << "faint creases are kept: " << flat.rule;
+  EXPECT_EQ(flat.rule.find("independent"), std::string::npos) << flat.rule;
+  DataEstimate gentle = independent(0.25, 5, 0.3, 0);
+  gentle.crease_sharpness = 0.045;
+  const AutoChoice fold = choose_filter_params(gentle);
+  EXPECT_EQ(fold.rule.find("independent"), std::string::npos) << fold.rule;
+  EXPECT_EQ(fold.params.iterations, 4) << fold.rule;
+  gentle.curved_share = 0.7;  // curved faces between the creases: the line again
+  EXPECT_NE(choose_filter_params(gentle).rule.find("independent"), std::string::npos);
   const AutoChoice clean = choose_filter_params(independent(0.0, 5, 0.3, 0));
   EXPECT_EQ(clean.rule.find("independent"), std::string::npos) << clean.rule;
   EXPECT_EQ(clean.params.iterations, 8) << clean.rule;

@@ -113,17 +113,17 @@ constexpr double kCoherentSigmaF = 3.3;
 // suit them (cube and wedges within 1.0-1.46 of the grid's best) and the coupling has no noise to
 // follow.
 constexpr double kIndependentErrorsBelow = 0.35;
-// Their settings, the tuning cases' optima: on shapes with edges a narrow sigma_f with a wide
-// sigma_g (4 and 2 spacings; 1.0-1.23 of the best but for one case, 1.75), on smooth curved ones
-// plain averaging (1.0), on smooth flat ones a wide sigma_f with the same wide sigma_g kept, for
-// creases too faint to see (1.05-1.37). Independent errors average out fast: one pass where the
-// normals are off by less than kIndependentOnePassDeg, else two (4-degree tilts, measured
-// 4.0-7.2, wanted one; 12-degree ones, 11.7-17, two: the line sits in the middle of that gap);
-// flat smooth shapes four.
+// Their settings, the tuning cases' optima: on shapes with sharp edges or curved faces a narrow
+// sigma_f with a wide sigma_g (4 and 2 spacings; 1.0-1.23 of the best but for one case, 1.75),
+// on smooth curved ones plain averaging (1.0). Independent errors average out fast: one pass
+// where the normals are off by less than kIndependentOnePassDeg, else two (4-degree tilts,
+// measured 4.0-7.2, wanted one; 12-degree ones, 11.7-17, two: the line sits in the middle of
+// that gap). Flat faces with only gentle creases or none keep the lines for PCA normals: on the
+// fold they did better than this line in 7 of its 8 jittered cases (1.04-1.73 of the best
+// against 1.18-1.85), on the plane as well or better in 5 of 8, and they keep faint creases.
 constexpr double kIndependentEdgesSigmaF = 4.0;
 constexpr double kIndependentSigmaG = 2.0;
 constexpr double kIndependentOnePassDeg = 9.0;
-constexpr int kIndependentFlatPasses = 4;
 // Past this noise (spacings) the feature term rejects more of the same surface than of the other
 // side of an edge, and the estimates can no longer see the edges: it is switched off and the
 // normals are so poor that averaging keeps paying (fandisk at 1.2% of its diagonal: 8.5-9
@@ -161,8 +161,9 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   p.mean_radius = estimate.mean_radius;
   p.stop_change_deg = kStopChangeDeg;
   const bool smooth = estimate.crease_length < kEdgesCreaseLength;
-  const bool curved = estimate.curved_share >= kCurvedShare;
+  const bool curved = estimate.curved_share >= kCurvedShare, flat = !curved;
   const double normal_noise = estimate.normal_noise_deg;
+  const bool gentle_or_none = smooth || estimate.crease_sharpness < kGentleCreaseSharpness;
   std::string why = (smooth ? "smooth (crease length " : "edges (crease length ") +
                     format("%.2f", estimate.crease_length) + " per size), " + (curved ? "curved (" : "flat (") +
                     format("%.0f", 100 * estimate.curved_share) + "% curved)";
@@ -171,23 +172,15 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     p.sigma_g = kSigmaGOff;
     p.iterations = kTooNoisyPasses;
     why = "too noisy for features (> " + format("%g", kFeatureOffNoise) + " spacings)";
-  } else if (normal_noise >= 0 && noise >= kNoFilterNoise &&
+  } else if (normal_noise >= 0 && noise >= kNoFilterNoise && !(flat && gentle_or_none) &&
              estimate.normal_position_coupling < kIndependentErrorsBelow &&
              estimate.normal_error_correlation < kIndependentErrorsBelow) {
     why += ", normal errors independent of the positions (coupling " +
            format("%.2f", estimate.normal_position_coupling) + ", correlation " +
            format("%.2f", estimate.normal_error_correlation) + ")";
     p.iterations = normal_noise < kIndependentOnePassDeg ? 1 : 2;
-    p.sigma_g = kIndependentSigmaG;
-    if (!smooth) {
-      p.sigma_f = kIndependentEdgesSigmaF;
-    } else if (curved) {
-      p.sigma_f = kSmoothSigmaF;
-      p.sigma_g = kSigmaGOff;
-    } else {
-      p.sigma_f = kSmoothSigmaF;
-      p.iterations = kIndependentFlatPasses;
-    }
+    p.sigma_f = smooth ? kSmoothSigmaF : kIndependentEdgesSigmaF;  // smooth here is smooth and curved
+    p.sigma_g = smooth ? kSigmaGOff : kIndependentSigmaG;
   } else if (smooth) {
     p.sigma_f = kSmoothSigmaF;
     p.sigma_g = kSigmaGOff;
@@ -212,8 +205,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     p.sigma_g = kSigmaG0 + kSigmaGPerNoise * noise;
     if (!curved) {
       p.sigma_f = kFlatEdgesSigmaF;
-      const bool gentle =
-          estimate.crease_sharpness < kGentleCreaseSharpness && normal_noise < kGentleMaxNormalNoiseDeg;
+      const bool gentle = gentle_or_none && normal_noise < kGentleMaxNormalNoiseDeg;
       p.iterations = gentle ? kGentleFlatEdgesPasses : kFlatEdgesPasses;
       why += gentle ? ", gentle creases (sharpness " : ", sharp creases (sharpness ";
       why += format("%.3f", estimate.crease_sharpness) + ")";
