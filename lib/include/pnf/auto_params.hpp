@@ -128,9 +128,10 @@ struct AutoChoice {
 // "curved" curved_share >= 15%:
 //   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
 //   input normals whose errors are independent of the positions (normal_position_coupling and
-//   normal_error_correlation both under 0.35) on noisy positions (p >= 0.05): sigma_g 2, one
-//   pass (two from normal_noise_deg 9 up); sigma_f 4 with edges, 8 without (smooth curved:
-//   feature term off; smooth flat: 4 passes);
+//   normal_error_correlation both under 0.35) on noisy positions (p >= 0.05), on curved shapes
+//   or flat faces between sharp creases (crease_sharpness from 0.06): one pass (two from
+//   normal_noise_deg 9 up), sigma_f 4 and sigma_g 2 with edges, sigma_f 8 and the feature term
+//   off on smooth curved shapes (flat faces with gentle creases or none: the lines below);
 //   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes (4 between gentle creases,
 //   crease_sharpness under 0.06, when normal_noise_deg is under 9);
 //   edges, curved faces: sigma_f min(1.6 + 5 p, 12), sigma_g 0.2 + 1.5 p, floor(1.1 / p) passes
