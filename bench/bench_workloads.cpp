@@ -4,6 +4,7 @@
 #include <fstream>
 #include <random>
 
+#include "geometry.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/synthetic_shapes.hpp"
@@ -29,7 +30,7 @@ Workload noisy_cube(const std::string& name, std::size_t points, double sigma_f,
   std::uniform_real_distribution<double> u01(0, 1);
   std::uniform_int_distribution<int> face(0, 5);
   const double spacing = std::sqrt(6.0 / double(points));
-  std::normal_distribution<double> offset(0, 0.1 * spacing), tilt(0, 15 * 3.14159265358979 / 180);
+  std::normal_distribution<double> offset(0, 0.1 * spacing), tilt(0, 15 * geometry::kPi / 180);
   Workload w;
   w.name = name;
   w.source = "synthetic noisy cube";

@@ -31,15 +31,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "eval_clouds.hpp"
-#include "geometry.hpp"
 #include "pnf/auto_params.hpp"
-#include "pnf/estimate_normals.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/normal_filter.hpp"
 
@@ -48,7 +45,6 @@ namespace {
 using namespace pnf;
 using namespace pnf::eval;
 
-using geometry::kPi;
 constexpr double kGridSigmaF[] = {2, 4, 8};
 constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
 constexpr int kGridPasses[] = {1, 2, 4, 8};

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "agreement.hpp"
@@ -87,6 +88,8 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
   std::vector<double> all(std::size_t(ranks) * kFields);
   MPI_Allgather(mine, kFields, MPI_DOUBLE, all.data(), kFields, MPI_DOUBLE, comm);
   std::vector<DataEstimate> parts(static_cast<std::size_t>(ranks));
+  bool any_samples = false;
+  std::size_t points = 0;
   for (int r = 0; r < ranks; ++r) {
     const double* f = all.data() + std::size_t(r) * kFields;
     DataEstimate& p = parts[std::size_t(r)];
@@ -107,10 +110,13 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
     p.normal_error_correlation = f[14];
     p.normal_position_coupling = f[15];
     p.crease_sharpness = f[16];
+    any_samples = any_samples || p.samples > 0;
+    points += p.points;
   }
-  bool any = false;
-  for (const DataEstimate& p : parts) any = any || p.samples > 0;
-  if (!any) throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data");
+  if (!any_samples) {  // pool_estimates would refuse too; say it in the CLI's terms
+    throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data (" +
+                                              std::to_string(ranks) + " ranks, " + std::to_string(points) + " points)");
+  }
   return choose_filter_params(pool_estimates(parts));
 }
 

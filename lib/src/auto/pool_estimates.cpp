@@ -2,6 +2,7 @@
 // a distributed run, each estimating its own slice).
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
@@ -10,7 +11,7 @@ namespace pnf {
 
 DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
   DataEstimate all;
-  double samples = 0, points_weighted_radius = 0, surface_area = 0, crease = 0;
+  double samples = 0, estimated_points = 0, points_weighted_radius = 0, surface_area = 0, crease = 0;
   double sharpness = 0, spacing = 0, noise = 0, normal_noise = 0, curved = 0, correlation = 0, coupling = 0, fit_radius = 0;
   bool normals = true;
   for (const DataEstimate& e : parts) {
@@ -19,6 +20,7 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
     const double w = double(e.samples);
     samples += w;
     all.samples += e.samples;
+    estimated_points += double(e.points);
     spacing += w * e.area_spacing;
     noise += w * e.position_noise;
     normals = normals && e.normal_noise_deg >= 0;
@@ -39,10 +41,11 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
     crease += e.crease_length * std::sqrt(area);
     all.radius_source = e.radius_source;
   }
-  if (!(samples > 0)) throw Error(ErrorCode::invalid_input, "pool_estimates: no part has enough points to estimate");
-  std::size_t estimated_points = 0;
-  for (const DataEstimate& e : parts) estimated_points += e.samples > 0 ? e.points : 0;
-  all.mean_radius = points_weighted_radius / double(estimated_points);
+  if (!(samples > 0)) {
+    throw Error(ErrorCode::invalid_input, "pool_estimates: no part of the cloud has enough points to estimate (" +
+                                              std::to_string(parts.size()) + " parts)");
+  }
+  all.mean_radius = points_weighted_radius / estimated_points;
   all.area_spacing = spacing / samples;
   all.position_noise = noise / samples;
   all.normal_noise_deg = normals ? normal_noise / samples : -1;
