@@ -47,9 +47,9 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "rounds (default 5)");
   app.add_option("--variants", names,
                  "base (plain scans, blocks 1 radius), wide (AVX-512/AVX2 scans), wide-half, wide-1.5 "
-                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half, keep "
-                 "(avx512, the count keeps the blocks' "
-                 "candidates for the fill)")
+                 "(block extent 0.5, 1.5 radii), avx512 (explicit AVX-512 count and compaction), avx512-half, avx2 "
+                 "(explicit AVX2 count and compaction), keep (explicit AVX-512, else AVX2, the count keeps the "
+                 "blocks' candidates for the fill: what pnf runs)")
       ->delimiter(',');
   app.add_option("--chunk", chunk,
                  "fill in chunks of this many points into one reused buffer, as a chunked run refills its lists "
@@ -83,9 +83,10 @@ int main(int argc, char** argv) {
     v.name = name;
     v.tuning.wide_scan = name != "base";
     v.tuning.avx512_scan = name.rfind("avx512", 0) == 0;
+    v.tuning.avx2_scan = name == "avx2";
     if (name == "avx512-half") v.tuning.block_extent_in_radii = 0.5;
     v.keep = name == "keep";
-    if (v.keep) v.tuning.avx512_scan = true;
+    if (v.keep) v.tuning.avx512_scan = v.tuning.avx2_scan = true;
     if (name == "wide-half") v.tuning.block_extent_in_radii = 0.5;
     if (name == "wide-1.5") v.tuning.block_extent_in_radii = 1.5;
     variants.push_back(v);

@@ -102,7 +102,7 @@ TEST(SpatialIndex, SearchesReportOnTheCallingThreadAndCancel) {
                std::logic_error);
 }
 
-// Every scan variant (plain, target_clones, explicit AVX-512, other block sizes) gives the lists
+// Every scan variant (plain, target_clones, explicit AVX-512 and AVX2, other block sizes) gives the lists
 // of brute force, on an integer grid where many neighbours sit exactly on the radius (distances
 // of integer points are exact in double, so the inclusive test decides them) and each point has
 // far more than 16 candidates (the AVX-512 scans' step).
@@ -114,12 +114,15 @@ TEST(SpatialIndex, EveryScanVariantGivesTheBruteForceLists) {
   const std::size_t n = p.size() / 3;
   const double radius = 3.0;  // (3,0,0), (2,2,1) and their images lie exactly on it
   SpatialIndex search(p);
-  std::vector<SpatialIndex::ListTuning> tunings(5);
-  tunings[1].avx512_scan = false;
-  tunings[2].avx512_scan = false;
-  tunings[2].wide_scan = false;
-  tunings[3].block_extent_in_radii = 0.5;
-  tunings[4].block_extent_in_radii = 1.5;
+  std::vector<SpatialIndex::ListTuning> tunings(6);
+  tunings[1].avx512_scan = false;  // explicit AVX2 (where the CPU has it)
+  tunings[2].avx512_scan = false;  // target_clones count, plain fill
+  tunings[2].avx2_scan = false;
+  tunings[3].avx512_scan = false;  // plain
+  tunings[3].avx2_scan = false;
+  tunings[3].wide_scan = false;
+  tunings[4].block_extent_in_radii = 0.5;
+  tunings[5].block_extent_in_radii = 1.5;
   for (std::size_t t = 0; t < tunings.size(); ++t) {
     search.set_list_tuning(tunings[t]);
     const std::vector<std::uint32_t> counts = search.count_within(radius);

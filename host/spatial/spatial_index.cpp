@@ -238,7 +238,7 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
             keep->blocks_[b] = s.ids;  // one exact allocation a block, no growing vector to copy
           }
         }
-        s.scratch.resize(s.ids.size() + 16);  // 16 ids of room for the AVX-512 compaction's full-width store
+        s.scratch.resize(s.ids.size() + 16);  // room for the AVX-512 (16 ids) and AVX2 (8) compactions' full-width stores
         s.cx.resize(s.ids.size());
         s.cy.resize(s.ids.size());
         s.cz.resize(s.ids.size());
@@ -354,6 +354,79 @@ bool cpu_has_avx512() {
   static const bool has = __builtin_cpu_supports("avx512f");
   return has;
 }
+
+// AVX2 versions for CPUs without AVX-512, 8 candidates a step: two 4-wide double tests (again
+// the same operations in the same order as within(); target avx2 enables no FMA, so nothing is
+// contracted) give an 8-bit mask. AVX2 has no compress: the compaction permutes the 8 ids by a
+// table of the kept lanes' positions per mask (2 KB) and stores all 8, so `out` must have room
+// for 8 ids past the last one kept.
+__attribute__((target("avx2"))) inline unsigned within8_avx2(const Candidates& c, std::size_t at, __m256d px,
+                                                               __m256d py, __m256d pz, __m256d radius2) {
+  unsigned mask = 0;
+  for (int half = 0; half < 2; ++half) {
+    const std::size_t k = at + 4 * std::size_t(half);
+    const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(c.x + k), px);
+    const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(c.y + k), py);
+    const __m256d dz = _mm256_sub_pd(_mm256_loadu_pd(c.z + k), pz);
+    const __m256d d2 =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+    mask |= unsigned(_mm256_movemask_pd(_mm256_cmp_pd(d2, radius2, _CMP_LE_OQ))) << (4 * half);
+  }
+  return mask;
+}
+
+__attribute__((target("avx2"))) std::uint32_t count_scan_avx2(const Candidates& c, double px, double py, double pz,
+                                                                double radius2) {
+  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz),
+                vr = _mm256_set1_pd(radius2);
+  std::uint32_t n = 0;
+  std::size_t k = 0;
+  for (; k + 8 <= c.size; k += 8) n += std::uint32_t(__builtin_popcount(within8_avx2(c, k, vx, vy, vz, vr)));
+  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+
+// For each 8-bit mask, the positions of its set bits in order, one byte each, the rest 0.
+struct CompressTable {
+  std::uint64_t lanes[256];
+  CompressTable() {
+    for (unsigned m = 0; m < 256; ++m) {
+      std::uint64_t v = 0;
+      int out = 0;
+      for (unsigned b = 0; b < 8; ++b) {
+        if (m & (1u << b)) v |= std::uint64_t(b) << (8 * out++);
+      }
+      lanes[m] = v;
+    }
+  }
+};
+
+__attribute__((target("avx2"))) std::size_t compact_scan_avx2(const Candidates& c, const std::uint32_t* ids,
+                                                                double px, double py, double pz, double radius2,
+                                                                std::uint32_t* out) {
+  static const CompressTable table;
+  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz),
+                vr = _mm256_set1_pd(radius2);
+  std::size_t written = 0, k = 0;
+  for (; k + 8 <= c.size; k += 8) {
+    const unsigned keep = within8_avx2(c, k, vx, vy, vz, vr);
+    const __m256i order = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(table.lanes[keep])));
+    const __m256i packed =
+        _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(ids + k)), order);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + written), packed);
+    written += std::size_t(__builtin_popcount(keep));
+  }
+  for (; k < c.size; ++k) {
+    out[written] = ids[k];
+    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  }
+  return written;
+}
+
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
 #endif
 
 
@@ -375,6 +448,10 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
 #ifdef PNF_HAVE_AVX512_SCAN
                    if (tuning_.avx512_scan && cpu_has_avx512()) {
                      counts[i - first] = count_scan_avx512(c, px, py, pz, radius2);
+                     return;
+                   }
+                   if (tuning_.avx2_scan && cpu_has_avx2()) {
+                     counts[i - first] = count_scan_avx2(c, px, py, pz, radius2);
                      return;
                    }
 #endif
@@ -424,13 +501,15 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
         std::size_t written = 0;
 #ifdef PNF_HAVE_AVX512_SCAN
         const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
+        const bool avx2 = !avx512 && tuning_.avx2_scan && cpu_has_avx2();
 #else
-        const bool avx512 = false;
+        const bool avx512 = false, avx2 = false;
 #endif
-        if (avx512) {
+        if (avx512 || avx2) {
 #ifdef PNF_HAVE_AVX512_SCAN
-          written = compact_scan_avx512(Candidates{cx.data(), cy.data(), cz.data(), ids.size()}, ids.data(), px, py,
-                                        pz, radius2, scratch.data());
+          const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
+          written = avx512 ? compact_scan_avx512(c, ids.data(), px, py, pz, radius2, scratch.data())
+                           : compact_scan_avx2(c, ids.data(), px, py, pz, radius2, scratch.data());
 #endif
         } else {
           // Plain even where wide_scan is set: the auto-vectorised flags-then-compact variant

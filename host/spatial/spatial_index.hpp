@@ -62,6 +62,7 @@ class SpatialIndex {
     double block_extent_in_radii = 1.0;  // a search block's largest extent along an axis, in radii
     bool wide_scan = true;  // the count's scan built for AVX-512 / AVX2 as well, chosen at run time
     bool avx512_scan = true;  // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
+    bool avx2_scan = true;    // else explicit AVX2 scans (mask, popcount, table permute) where it has AVX2
   };
   void set_list_tuning(const ListTuning& tuning) { tuning_ = tuning; }
   // The candidates the list searches for `radius` test over points [first, first + count), for
