@@ -202,14 +202,25 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
 #endif
 }
 
-/* PNF_TRANSPOSE16: on the 16-lane kernel, a step's 16 neighbours are gathered as four
- * float16 of four rows each and transposed by shuffles (pnf_gather16), rather than lane by lane.
- * Data movement only: the arithmetic is the shared pnf_accumulate. 4-8% faster on the dog and
- * the cube in three runs of four, the face unchanged (docs/performance.md). -DPNF_TRANSPOSE16=0
- * (the bench's --kernel-options) restores the lane-by-lane gather, to measure it. */
-#if defined(__OPENCL_VERSION__) && PNF_LANES == 16
-#ifndef PNF_TRANSPOSE16
-#define PNF_TRANSPOSE16 1
+/* Gathers for the wide kernels: a step's neighbours are loaded as float4 rows and transposed by
+ * shuffles into x, y and z columns, rather than built lane by lane (data movement only: the
+ * arithmetic is the shared pnf_accumulate). Two shapes of the same transpose, chosen by the host
+ * from the device's native float vector width (opencl_backend.cpp), as each wins on its own
+ * vector unit (docs/performance.md):
+ *   pnf_gather16        four float16 of four rows, shuffles across the 128-bit halves: 4-8%
+ *                       faster than lane by lane on AVX-512 (native width 16);
+ *   pnf_gather8_inlane  4x4 transposes inside the 128-bit halves (one unpack or move-half
+ *                       instruction each on AVX2, where crossing halves costs a permute): 10%
+ *                       faster than pnf_gather16 on AVX2 (native width 8), and the 8-lane gather.
+ * pnf_gather_step is the one a build uses. PNF_ROW_GATHER=0 (the bench's --kernel-options)
+ * restores the lane-by-lane gather, to measure it; PNF_GATHER_IN_HALVES=1 picks the in-half shape
+ * for 16 lanes (the host's choice). */
+#if defined(__OPENCL_VERSION__) && (PNF_LANES == 16 || PNF_LANES == 8)
+#ifndef PNF_ROW_GATHER
+#define PNF_ROW_GATHER 1
+#endif
+#ifndef PNF_GATHER_IN_HALVES
+#define PNF_GATHER_IN_HALVES 0
 #endif
 /* Rows a[ids[0..16)] (x, y, z, unused) as their x, y and z columns. */
 PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, float16* x, float16* y, float16* z) {
@@ -228,8 +239,45 @@ PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, flo
   *y = shuffle2(xy01, xy23, hi);
   *z = shuffle2(zw01, zw23, lo);
 }
+
+/* Rows a[ids[0..8)] as columns, in the lane order 0 2 4 6 1 3 5 7: the same order for every
+ * column, and a step's lanes are only summed. */
+PNF_FN void pnf_gather8_inlane(__global const float4* a, __global const uint* ids, float8* x, float8* y,
+                               float8* z) {
+  const float8 r0 = (float8)(a[ids[0]], a[ids[1]]);
+  const float8 r1 = (float8)(a[ids[2]], a[ids[3]]);
+  const float8 r2 = (float8)(a[ids[4]], a[ids[5]]);
+  const float8 r3 = (float8)(a[ids[6]], a[ids[7]]);
+  const uint8 unpack_lo = (uint8)(0, 8, 1, 9, 4, 12, 5, 13);
+  const uint8 unpack_hi = (uint8)(2, 10, 3, 11, 6, 14, 7, 15);
+  const float8 t0 = shuffle2(r0, r1, unpack_lo), t1 = shuffle2(r2, r3, unpack_lo);
+  const float8 t2 = shuffle2(r0, r1, unpack_hi), t3 = shuffle2(r2, r3, unpack_hi);
+  const uint8 move_lo = (uint8)(0, 1, 8, 9, 4, 5, 12, 13);
+  const uint8 move_hi = (uint8)(2, 3, 10, 11, 6, 7, 14, 15);
+  *x = shuffle2(t0, t1, move_lo);
+  *y = shuffle2(t0, t1, move_hi);
+  *z = shuffle2(t2, t3, move_lo);
+}
+
+PNF_FN void pnf_gather16_inlane(__global const float4* a, __global const uint* ids, float16* x, float16* y,
+                                float16* z) {
+  float8 x0, y0, z0, x1, y1, z1;
+  pnf_gather8_inlane(a, ids, &x0, &y0, &z0);
+  pnf_gather8_inlane(a, ids + 8, &x1, &y1, &z1);
+  *x = (float16)(x0, x1);
+  *y = (float16)(y0, y1);
+  *z = (float16)(z0, z1);
+}
+
+#if PNF_LANES == 8
+#define pnf_gather_step pnf_gather8_inlane
+#elif PNF_GATHER_IN_HALVES
+#define pnf_gather_step pnf_gather16_inlane
 #else
-#define PNF_TRANSPOSE16 0
+#define pnf_gather_step pnf_gather16
+#endif
+#else
+#define PNF_ROW_GATHER 0
 #endif
 
 #endif /* PNF_COMMON_H */

@@ -144,10 +144,10 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_
   const pnf_offset full = begin + (end - begin) / PNF_LANES * PNF_LANES;
   pnf_real dx[PNF_LANES], dy[PNF_LANES], dz[PNF_LANES], nx[PNF_LANES], ny[PNF_LANES], nz[PNF_LANES];
   for (pnf_offset e = begin; e < full; e += PNF_LANES) {
-#if PNF_TRANSPOSE16
-    float16 px, py, pz, vx, vy, vz;
-    pnf_gather16(positions, indices + e, &px, &py, &pz);
-    pnf_gather16(normals, indices + e, &vx, &vy, &vz);
+#if PNF_ROW_GATHER
+    pnf_lane px, py, pz, vx, vy, vz;
+    pnf_gather_step(positions, indices + e, &px, &py, &pz);
+    pnf_gather_step(normals, indices + e, &vx, &vy, &vz);
     pnf_accumulate(&acc, px - qx, py - qy, pz - qz, vx, vy, vz, (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
 #else
     for (int k = 0; k < PNF_LANES; ++k) {

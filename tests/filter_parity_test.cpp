@@ -1,7 +1,9 @@
 // OpenCL on the selected device against the double-precision reference, to SPEC's tolerance:
 // after 4 passes, 0.01 degrees on 99.9% of points and 0.1 degrees on every point. Every case runs
-// at each kernel lane width a device type gets (1 on GPUs; 4, 8 or 16 on CPUs), selected through
-// the internal backend factory, so the 1-lane kernel that GPUs run is checked here on the CPU.
+// at each kernel lane width a device type gets (1 on GPUs; 4, 8 or 16 on CPUs), and the 16-lane
+// kernel with both of its gathers (across and inside 128-bit halves, which the host picks by the
+// device's native vector width), selected through the internal backend factory, so the 1-lane
+// kernel that GPUs run, and the gather another CPU would pick, are checked here.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,20 +29,27 @@ constexpr double kMostPointsDeg = 0.01;  // SPEC, "Numerics"
 constexpr double kMostPointsShare = 0.999;
 constexpr double kEveryPointDeg = 0.1;
 
-// The OpenCL backend for `lanes` on the selected device, built once per width for all tests;
-// nullptr with `why` set when there is no device.
-pnf::detail::FilterBackend* opencl_backend(int lanes, std::string& why) {
-  static std::map<int, std::unique_ptr<pnf::detail::FilterBackend>> backends;
+// A kernel build: its lane width and extra build options.
+struct KernelBuild {
+  int lanes;
+  const char* options;
+  const char* name;
+};
+
+// The OpenCL backend for `build` on the selected device, built once for all tests; nullptr with
+// `why` set when there is no device.
+pnf::detail::FilterBackend* opencl_backend(const KernelBuild& build, std::string& why) {
+  static std::map<std::string, std::unique_ptr<pnf::detail::FilterBackend>> backends;
   static std::string error;
-  auto found = backends.find(lanes);
+  auto found = backends.find(build.name);
   if (found == backends.end()) {
     std::unique_ptr<pnf::detail::FilterBackend> made;
     try {
-      made = pnf::detail::make_opencl_backend(pnf::test::opencl_selector(), lanes);
+      made = pnf::detail::make_opencl_backend(pnf::test::opencl_selector(), build.lanes, build.options);
     } catch (const pnf::Error& e) {
       error = e.what();
     }
-    found = backends.emplace(lanes, std::move(made)).first;
+    found = backends.emplace(build.name, std::move(made)).first;
   }
   why = error;
   return found->second.get();
@@ -55,13 +64,13 @@ const std::vector<Vec3>& reference_normals(const PointCloud& cloud, const pnf::F
   return found->second;
 }
 
-class FilterParity : public ::testing::TestWithParam<int> {};
+class FilterParity : public ::testing::TestWithParam<KernelBuild> {};
 
 void expect_parity(const PointCloud& cloud, const pnf::FilterParams& params, const std::string& case_name) {
-  const int lanes = FilterParity::GetParam();
-  const std::string name = case_name + " (" + std::to_string(lanes) + " lane" + (lanes == 1 ? "" : "s") + ")";
+  const KernelBuild& build = FilterParity::GetParam();
+  const std::string name = case_name + " (" + build.name + ")";
   std::string why;
-  pnf::detail::FilterBackend* opencl = opencl_backend(lanes, why);
+  pnf::detail::FilterBackend* opencl = opencl_backend(build, why);
   if (!opencl) {
     if (std::getenv("PNF_DEVICE")) FAIL() << "PNF_DEVICE is set but: " << why;
     GTEST_SKIP() << "no OpenCL device: " << why;
@@ -157,7 +166,11 @@ TEST_P(FilterParity, RealScans) {
 }
 
 // The widths OpenClBackend chooses: 1 for GPUs, 16 for CPUs; 4 and 8 for other vector units.
-INSTANTIATE_TEST_SUITE_P(Lanes, FilterParity, ::testing::Values(1, 4, 8, 16),
-                         [](const ::testing::TestParamInfo<int>& info) { return "L" + std::to_string(info.param); });
+INSTANTIATE_TEST_SUITE_P(Lanes, FilterParity,
+                         ::testing::Values(KernelBuild{1, "", "L1"}, KernelBuild{4, "", "L4"},
+                                           KernelBuild{8, "", "L8"},
+                                           KernelBuild{16, "-DPNF_GATHER_IN_HALVES=0", "L16"},
+                                           KernelBuild{16, "-DPNF_GATHER_IN_HALVES=1", "L16_InHalves"}),
+                         [](const ::testing::TestParamInfo<KernelBuild>& info) { return std::string(info.param.name); });
 
 }  // namespace
