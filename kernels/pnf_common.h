@@ -12,6 +12,12 @@
 #ifndef PNF_LANES
 #define PNF_LANES 1
 #endif
+/* PNF_NATIVE_FLOATS: the device's native float vector width (CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT,
+ * a build option the host sets: 8 on AVX2, 16 on AVX-512). It sets the shape of the 16-lane
+ * kernel's gather below, not the arithmetic. */
+#ifndef PNF_NATIVE_FLOATS
+#define PNF_NATIVE_FLOATS 16
+#endif
 
 #ifdef __OPENCL_VERSION__
 #define PNF_FN static inline
@@ -214,13 +220,13 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
  *                       faster than pnf_gather16 on AVX2 (native width 8), and the 8-lane gather.
  * pnf_gather_step is the one a build uses. PNF_ROW_GATHER=0 (the bench's --kernel-options)
  * restores the lane-by-lane gather, to measure it; PNF_GATHER_IN_HALVES=1 picks the in-half shape
- * for 16 lanes (the host's choice). */
+ * for 16 lanes (the default where PNF_NATIVE_FLOATS < 16). */
 #if defined(__OPENCL_VERSION__) && (PNF_LANES == 16 || PNF_LANES == 8)
 #ifndef PNF_ROW_GATHER
 #define PNF_ROW_GATHER 1
 #endif
 #ifndef PNF_GATHER_IN_HALVES
-#define PNF_GATHER_IN_HALVES 0
+#define PNF_GATHER_IN_HALVES (PNF_NATIVE_FLOATS < 16)
 #endif
 /* Rows a[ids[0..16)] (x, y, z, unused) as their x, y and z columns. */
 PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, float16* x, float16* y, float16* z) {

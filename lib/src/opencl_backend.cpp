@@ -33,12 +33,10 @@ class OpenClBackend : public FilterBackend {
   OpenClBackend(const std::string& selector, int lanes, const std::string& extra_options) : runtime_(selector) {
     lanes_ = lanes > 0 ? lanes : runtime_.info().type == "gpu" ? kGpuLanes : kCpuLanes;
     std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
-    // The 16-lane gather's shuffles in the shape the vector unit does in one instruction each
-    // (pnf_common.h): across 128-bit halves on 16-wide units, inside them on narrower ones.
+    // The wide kernels shape their gather and sums by the device's native vector (pnf_common.h).
     // Extra options that set it themselves decide (to measure it).
-    if (lanes_ == 16 && runtime_.native_float_width() < 16 &&
-        extra_options.find("PNF_GATHER_IN_HALVES") == std::string::npos) {
-      options += " -DPNF_GATHER_IN_HALVES=1";
+    if (extra_options.find("PNF_NATIVE_FLOATS") == std::string::npos) {
+      options += " -DPNF_NATIVE_FLOATS=" + std::to_string(runtime_.native_float_width());
     }
     if (!extra_options.empty()) options += " " + extra_options;
     kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
