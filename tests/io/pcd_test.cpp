@@ -228,6 +228,52 @@ TEST(PcdFile, NanPointsStayInPlaceWithNanNormals) {
   }
 }
 
+// An organised PCD's invalid points written as PLY (pnf's own output of such a file) read back
+// as invalid points, in binary and ascii PLY, and go back to PCD in their places; a PLY vertex
+// with all three coordinates NaN is one too (PCL's PLY writer), while a NaN coordinate with a
+// finite normal is still an error.
+TEST(PcdFile, InvalidPointsSurviveTheTripThroughPly) {
+  TempDir dir;
+  const std::vector<TestField> fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}};
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float coordinates[5][3] = {{0, 0, 1}, {nan, nan, nan}, {1, 0, 1}, {nan, 0, 1}, {1, 1, 1.5f}};
+  std::string rows;
+  for (const auto& point : coordinates)
+    for (const float c : point) rows += test::float_bytes(c);
+  const std::string in = (dir / "in.pcd").string();
+  test::write_file(in, test::test_pcd_header(fields, 5, 1, "binary") + rows);
+  PointFile file = read_point_file(in);
+  ASSERT_EQ(file.valid_count(), 3u);
+  file.set_normals({{0, 0, 1}, {0, 0.6, 0.8}, {0.6, 0, 0.8}});
+  for (const bool ascii : {false, true}) {
+    SCOPED_TRACE(ascii ? "ascii PLY" : "binary PLY");
+    const std::string ply = (dir / (ascii ? "mid_ascii.ply" : "mid.ply")).string();
+    WriteOptions options;
+    options.ascii = ascii;
+    write_point_file(ply, file, options);
+    const PointFile back = read_point_file(ply);
+    EXPECT_EQ(back.size(), 5u);
+    ASSERT_EQ(back.valid_count(), 3u);
+    EXPECT_EQ(back.row_of_point(1), 2u);
+    EXPECT_EQ(back.row_of_point(2), 4u);
+    EXPECT_EQ(back.cloud().positions, file.cloud().positions);
+    EXPECT_EQ(back.cloud().normals, file.cloud().normals);
+    write_point_file((dir / "out.pcd").string(), back);
+    const PointFile pcd = read_point_file((dir / "out.pcd").string());
+    ASSERT_EQ(pcd.valid_count(), 3u);
+    EXPECT_EQ(pcd.row_of_point(1), 2u);
+    EXPECT_EQ(pcd.cloud().normals, file.cloud().normals);
+  }
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  test::write_file(dir / "pcl.ply", header + "end_header\n0 0 0\nnan nan nan\n1 0 0\n");
+  const PointFile pcl = read_point_file((dir / "pcl.ply").string());
+  EXPECT_EQ(pcl.size(), 3u);
+  EXPECT_EQ(pcl.valid_count(), 2u);
+  test::write_file(dir / "stray.ply", header + "end_header\n0 0 0\nnan 0 0\n1 0 0\n");
+  EXPECT_THROW(read_point_file((dir / "stray.ply").string()), Error) << "one NaN coordinate and no NaN normal";
+}
+
 TEST(PcdFile, PackedColourKeepsItsBitsInAscii) {
   TempDir dir;
   const std::vector<TestField> fields = {{"x", 'F', 4, 1}, {"y", 'F', 4, 1}, {"z", 'F', 4, 1}, {"rgb", 'F', 4, 1}};

@@ -89,6 +89,24 @@ set -e
 grep -q "^pnf: error: rank 2 of 3: $(sed 's/^pnf: error: //' nan1.log)\$" nan3.log || { cat nan1.log nan3.log; fail "not the one-process message"; }
 [ ! -e nan3.ply ] || fail "written after a NaN"
 
+echo "== an invalid point (x, y, z NaN): one process takes it, a distributed run refuses it by name"
+python3 - <<'PY'
+import struct
+d = bytearray(open("house_noisy.ply", "rb").read())
+end = d.index(b"end_header\n") + len(b"end_header\n")
+for axis in range(3):
+    struct.pack_into("<d", d, end + 48 * 15000 + 8 * axis, float("nan"))
+open("invalid.ply", "wb").write(d)
+PY
+"$pnf" filter invalid.ply invalid1.ply --quiet || fail "one process refused an invalid point"
+set +e
+run -np 3 "$pnf" filter invalid.ply invalid3.ply 2>invalid3.log
+code=$?
+set -e
+[ "$code" = 3 ] || fail "exit code $code for an invalid point in a distributed run (want 3)"
+grep -q "vertex 15000 is an invalid point" invalid3.log || { cat invalid3.log; fail "the invalid point is not named"; }
+[ ! -e invalid3.ply ] || fail "written after an invalid point"
+
 echo "== a device error on one rank"
 set +e
 run -np 1 "$pnf" filter rich.ply dev_out.ply --device reference : -np 1 -x PNF_DEVICE=no-such-device \

@@ -7,12 +7,15 @@
 // bits of every value. pnf reads positions, normals and radii out of it (cloud()) and puts
 // improved normals back (set_normals()); all other data passes through unchanged.
 //
-// Invalid points (PCD only). PCL marks the pixels of an organised cloud that saw nothing with
+// Invalid points (PCD and PLY). PCL marks the pixels of an organised cloud that saw nothing with
 // NaN coordinates. In a PCD file such a row is an invalid point, not an error: it stays in the
 // file in its place (WIDTH x HEIGHT intact), cloud() leaves it out (so no neighbourhood or
 // estimate sees it), and set_normals() gives it NaN normals. size() counts every row;
-// valid_count() and row_of_point() map the points of cloud() to rows. In every other format a
-// NaN coordinate is an error naming the vertex, and every row is a valid point.
+// valid_count() and row_of_point() map the points of cloud() to rows. In a PLY file a vertex is
+// an invalid point in the same way when x, y and z are all NaN (as PCL's PLY writer writes one)
+// or when a coordinate is NaN and so is its normal (as pnf writes an invalid PCD point to PLY), so
+// that such files read back; any other NaN coordinate or normal is an error naming the vertex.
+// In text formats a NaN is always an error, and every row is a valid point.
 //
 // Thread safety: read_point_file and write_point_file may run concurrently on different paths.
 // A PointFile is a plain value: const members may be called from several threads at once,
@@ -208,7 +211,8 @@ PointFile read_point_file(const std::string& path);
 // out as PCL does (they read back as zero). A PLY or text file written as PCD becomes one
 // unorganised cloud of its vertices' scalar properties (nx ny nz named normal_x normal_y
 // normal_z); list properties cannot be written to PCD. A PCD file written as PLY keeps its rows,
-// invalid ones included; a 64-bit integer field cannot be written to PLY. Text formats carry
+// invalid ones included (they read back as invalid points); a 64-bit integer field cannot be
+// written to PLY. Text formats carry
 // x y z [nx ny nz] of the valid points, 17 significant digits; .xyzn and .pwn need normals.
 // The data goes to a temporary file in the target's folder that is renamed over `path`, so
 // `path` is either replaced whole or left alone; on failure no temporary file remains. Throws

@@ -42,7 +42,7 @@ class PcdReader {
       case PcdData::binary: read_binary(); break;
       case PcdData::binary_compressed: read_compressed(); break;
     }
-    check_vertices(*impl_, path_, point_lines_, true);
+    check_vertices(*impl_, path_, point_lines_, InvalidRows::any_nan_coordinate);
     return std::move(impl_);
   }
 

@@ -52,7 +52,7 @@ class PlyReader {
     } else {
       check_binary_end();
     }
-    check_vertices(*impl_, path_, vertex_lines);
+    check_vertices(*impl_, path_, vertex_lines, InvalidRows::nan_point);
     return std::move(impl_);
   }
 

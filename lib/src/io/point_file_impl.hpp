@@ -36,7 +36,7 @@ struct PointFile::Impl {
   // For a file read from PCD: its header, whose fields give the vertex properties in order
   // (one per value), kept in step with them by set_normals.
   PcdHeader pcd;
-  // True when some rows are invalid points (PCD rows with a NaN coordinate); then valid_rows
+  // True when some rows are invalid points (check_vertices' InvalidRows); then valid_rows
   // lists the valid ones in ascending order. False: every row is valid, valid_rows is empty.
   bool has_invalid_rows = false;
   std::vector<std::size_t> valid_rows;
@@ -47,13 +47,22 @@ struct PointFile::Impl {
 // some normal components are present, or when a used property is a list.
 void locate_vertex_fields(PointFile::Impl& impl, const std::string& path);
 
+// Which rows are invalid points rather than errors: kept, passed through and not filtered.
+enum class InvalidRows {
+  none,                 // every NaN is an error (text files, distributed PLY slices)
+  // PLY: x, y and z all NaN (PCL's PLY writer's invalid point), or a NaN coordinate with a NaN
+  // normal (pnf's, for an invalid PCD point written as PLY); a NaN anywhere else is an error
+  nan_point,
+  any_nan_coordinate,   // PCD: a NaN coordinate, PCL's mark of an invalid point
+};
+
 // Checks that every position and normal is finite and every normal non-zero. `row_lines`
 // gives, for an ascii source, the file line of each vertex row (empty otherwise) so that the
 // message can name it. Throws invalid_input naming `path`, the vertex index and the line.
-// With `nan_marks_invalid` (PCD), a row with a NaN coordinate is an invalid point instead: it
-// is not checked further, and impl.has_invalid_rows / impl.valid_rows record it; messages
-// then say "point" rather than "vertex".
+// A row that `invalid` marks is an invalid point instead: it is not checked further, and
+// impl.has_invalid_rows / impl.valid_rows record it; for PCD, messages say "point" rather than
+// "vertex".
 void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
-                    bool nan_marks_invalid = false);
+                    InvalidRows invalid = InvalidRows::none);
 
 }  // namespace pnf

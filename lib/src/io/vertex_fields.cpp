@@ -78,7 +78,7 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
 }
 
 void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
-                    bool nan_marks_invalid) {
+                    InvalidRows invalid_rows) {
   const PlyElement& element = impl.header.elements[impl.vertex_element];
   const VertexFields& fields = impl.fields;
   const unsigned char* row = impl.values[impl.vertex_element].data();
@@ -87,7 +87,8 @@ void check_vertices(PointFile::Impl& impl, const std::string& path, const std::v
     std::string where = path + ": ";
     if (vertex < row_lines.size()) where += "line " + std::to_string(row_lines[vertex]) + ", ";
     throw Error(ErrorCode::invalid_input,
-                where + (nan_marks_invalid ? "point " : "vertex ") + std::to_string(vertex) + ": " + what);
+                where + (invalid_rows == InvalidRows::any_nan_coordinate ? "point " : "vertex ") +
+                    std::to_string(vertex) + ": " + what);
   };
   const auto load = [&](std::size_t property) {
     return load_as_double(element.properties[property].type, row + layout.offset(property));
@@ -98,8 +99,14 @@ void check_vertices(PointFile::Impl& impl, const std::string& path, const std::v
   impl.has_invalid_rows = false;
   for (std::size_t vertex = 0; vertex < element.count; ++vertex) {
     const std::size_t row_size = layout.measure(row);
-    if (nan_marks_invalid) {
-      const bool invalid = std::isnan(load(fields.x)) || std::isnan(load(fields.y)) || std::isnan(load(fields.z));
+    if (invalid_rows != InvalidRows::none) {
+      const bool x = std::isnan(load(fields.x)), y = std::isnan(load(fields.y)), z = std::isnan(load(fields.z));
+      bool invalid = x || y || z;
+      if (invalid && invalid_rows == InvalidRows::nan_point) {
+        const bool nan_normal = fields.has_normals() && std::isnan(load(fields.nx)) && std::isnan(load(fields.ny)) &&
+                                std::isnan(load(fields.nz));
+        invalid = (x && y && z) || nan_normal;
+      }
       if (invalid && !impl.has_invalid_rows) {
         // The rows before the first invalid one were all valid.
         impl.has_invalid_rows = true;
