@@ -162,6 +162,19 @@ TEST_F(CliErrorTest, NaNCoordinate) {
                         {"line 12", "vertex 1", "x", "NaN"});
 }
 
+// A NaN normal on a valid point (PCL's NormalEstimation leaves one where a point had too few
+// neighbours): `filter` refuses it and points to `estimate`, which replaces every normal and so
+// takes the file.
+TEST_F(CliErrorTest, NaNNormalPointsToEstimateWhichTakesIt) {
+  expect_filter_rejects("nan_normal.ply", ascii_ply(kPositionsAndNormals, 4, rows_with(2, "0 1 0 nan nan nan")),
+                        {"line 13", "vertex 2", "nx", "NaN", "pnf estimate"});
+  const CliRun r = run({"estimate", path("nan_normal.ply"), path("estimated.ply"), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const PointCloud cloud = read_point_file(path("estimated.ply")).cloud();
+  ASSERT_EQ(cloud.normals.size(), 4u);
+  for (const Vec3& n : cloud.normals) EXPECT_NEAR(std::abs(n[2]), 1.0, 1e-9) << "a plane's normal";
+}
+
 TEST_F(CliErrorTest, InfiniteNormal) {
   expect_filter_rejects("inf.ply", ascii_ply(kPositionsAndNormals, 4, rows_with(3, "1 1 0 0 inf 1")),
                         {"line 14", "vertex 3", "ny", "infinity"});

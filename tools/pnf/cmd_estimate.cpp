@@ -29,7 +29,9 @@ int run_estimate(const EstimateFlags& flags) {
     params.validate();
     check_output_extension(flags.out);
     check_not_overwriting_input(flags.in, flags.out, flags.in_place);
-    PointFile file = read_point_file(flags.in);
+    ReadOptions read;
+    read.check_normals = false;  // replaced below; PCL leaves NaN normals on points with few neighbours
+    PointFile file = read_point_file(flags.in, read);
     const PcdHeader* pcd = file.pcd_header();
     if (flags.orient.empty() && pcd) {
       // As PCL does: a scan's normals face the sensor, whose origin the VIEWPOINT line gives.

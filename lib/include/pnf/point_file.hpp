@@ -114,6 +114,14 @@ struct PlyHeader {
   std::vector<PlyElement> elements;  // in file order
 };
 
+// Options for read_point_file.
+struct ReadOptions {
+  // False: the file's normals are not checked (NaN, infinite or zero ones are read as they are),
+  // for a caller that replaces them all, as `pnf estimate` does: PCL's NormalEstimation leaves
+  // NaN normals where a point had too few neighbours. cloud() then returns them unchecked.
+  bool check_normals = true;
+};
+
 // Options for write_point_file.
 struct WriteOptions {
   // PLY only: write the ascii encoding instead of binary_little_endian. Ignored for text
@@ -188,17 +196,17 @@ class PointFile {
   explicit PointFile(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 
-  friend PointFile read_point_file(const std::string& path);
+  friend PointFile read_point_file(const std::string& path, const ReadOptions& options);
   friend void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options);
 };
 
-// Reads the point file at `path`; the format follows the extension (.ply, .pcd, .xyz, .xyzn,
+// Reads the point file at `path` (`options`: ReadOptions); the format follows the extension (.ply, .pcd, .xyz, .xyzn,
 // .pwn, case-insensitive). PCD: DATA ascii, binary (little-endian, as PCL writes it on every
 // common host) or binary_compressed (LZF), any fields in any order. Throws invalid_argument
 // for another extension, io when the file cannot be opened or read, and invalid_input for
 // malformed contents, with one line that names the file, the element (PLY) or field (PCD), the
 // line (ascii) or row index (binary) or point (PCD), and what is wrong.
-PointFile read_point_file(const std::string& path);
+PointFile read_point_file(const std::string& path, const ReadOptions& options = {});
 
 // Writes `file` to `path` in the format its extension names. A PLY file keeps every element,
 // property, comment and value of `file`; a file that came from PLY and is written in its

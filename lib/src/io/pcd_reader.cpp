@@ -26,7 +26,7 @@ constexpr std::uint64_t kLzfMaxExpansion = 88;
 
 class PcdReader {
  public:
-  explicit PcdReader(const std::string& path) : source_(path), path_(path) {}
+  PcdReader(const std::string& path, const ReadOptions& options) : source_(path), path_(path), options_(options) {}
 
   std::unique_ptr<PointFile::Impl> read() {
     impl_ = std::make_unique<PointFile::Impl>();
@@ -42,7 +42,7 @@ class PcdReader {
       case PcdData::binary: read_binary(); break;
       case PcdData::binary_compressed: read_compressed(); break;
     }
-    check_vertices(*impl_, path_, point_lines_, InvalidRows::any_nan_coordinate);
+    check_vertices(*impl_, path_, point_lines_, InvalidRows::any_nan_coordinate, options_.check_normals);
     return std::move(impl_);
   }
 
@@ -237,6 +237,7 @@ class PcdReader {
 
   ByteSource source_;
   std::string path_;
+  ReadOptions options_;
   std::unique_ptr<PointFile::Impl> impl_;
   std::vector<std::size_t> point_lines_;  // ascii: the file line of each point
   std::size_t header_lines_ = 0;          // lines up to and including DATA
@@ -244,6 +245,8 @@ class PcdReader {
 
 }  // namespace
 
-std::unique_ptr<PointFile::Impl> read_pcd(const std::string& path) { return PcdReader(path).read(); }
+std::unique_ptr<PointFile::Impl> read_pcd(const std::string& path, const ReadOptions& options) {
+  return PcdReader(path, options).read();
+}
 
 }  // namespace pnf

@@ -13,6 +13,6 @@ namespace pnf {
 // with a NaN coordinate being invalid points. Every count is checked against the bytes left in
 // the file before anything is allocated from it. Throws io when the file cannot be read and
 // invalid_input, naming the file, the header line, field, line or point, when it is malformed.
-std::unique_ptr<PointFile::Impl> read_pcd(const std::string& path);
+std::unique_ptr<PointFile::Impl> read_pcd(const std::string& path, const ReadOptions& options = {});
 
 }  // namespace pnf

@@ -28,7 +28,7 @@ constexpr std::size_t kMaxHeaderLine = 64 * 1024;
 
 class PlyReader {
  public:
-  explicit PlyReader(const std::string& path) : source_(path), path_(path) {}
+  PlyReader(const std::string& path, const ReadOptions& options) : source_(path), path_(path), options_(options) {}
 
   std::unique_ptr<PointFile::Impl> read() {
     impl_ = std::make_unique<PointFile::Impl>();
@@ -52,7 +52,7 @@ class PlyReader {
     } else {
       check_binary_end();
     }
-    check_vertices(*impl_, path_, vertex_lines, InvalidRows::nan_point);
+    check_vertices(*impl_, path_, vertex_lines, InvalidRows::nan_point, options_.check_normals);
     return std::move(impl_);
   }
 
@@ -401,6 +401,7 @@ class PlyReader {
 
   ByteSource source_;
   std::string path_;
+  ReadOptions options_;
   std::unique_ptr<PointFile::Impl> impl_;
   std::size_t line_number_ = 0;
   std::string line_;
@@ -409,6 +410,8 @@ class PlyReader {
 
 }  // namespace
 
-std::unique_ptr<PointFile::Impl> read_ply(const std::string& path) { return PlyReader(path).read(); }
+std::unique_ptr<PointFile::Impl> read_ply(const std::string& path, const ReadOptions& options) {
+  return PlyReader(path, options).read();
+}
 
 }  // namespace pnf

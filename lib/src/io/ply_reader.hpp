@@ -11,6 +11,6 @@ namespace pnf {
 // Reads the PLY file at `path`: header, every element's values and, for ascii, every token's
 // text; then checks the vertices. Throws io when the file cannot be read and invalid_input,
 // naming the file, the element and the line (ascii) or row (binary), when it is malformed.
-std::unique_ptr<PointFile::Impl> read_ply(const std::string& path);
+std::unique_ptr<PointFile::Impl> read_ply(const std::string& path, const ReadOptions& options = {});
 
 }  // namespace pnf

@@ -325,11 +325,11 @@ const std::vector<unsigned char>& PointFile::element_values(std::size_t element)
   return impl_->values[element];
 }
 
-PointFile read_point_file(const std::string& path) {
+PointFile read_point_file(const std::string& path, const ReadOptions& options) {
   const PointFileFormat format = format_from_extension(path);
-  if (format == PointFileFormat::ply) return PointFile(read_ply(path));
-  if (format == PointFileFormat::pcd) return PointFile(read_pcd(path));
-  return PointFile(read_text_points(path, format));
+  if (format == PointFileFormat::ply) return PointFile(read_ply(path, options));
+  if (format == PointFileFormat::pcd) return PointFile(read_pcd(path, options));
+  return PointFile(read_text_points(path, format, options));
 }
 
 void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options) {

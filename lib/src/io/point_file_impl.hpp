@@ -62,7 +62,8 @@ enum class InvalidRows {
 // A row that `invalid` marks is an invalid point instead: it is not checked further, and
 // impl.has_invalid_rows / impl.valid_rows record it; for PCD, messages say "point" rather than
 // "vertex".
+// With check_normals false (ReadOptions), the normals are left unchecked.
 void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
-                    InvalidRows invalid = InvalidRows::none);
+                    InvalidRows invalid = InvalidRows::none, bool check_normals = true);
 
 }  // namespace pnf

@@ -47,7 +47,8 @@ std::unique_ptr<PointFile::Impl> make_impl(PointFileFormat format, bool normals)
 
 }  // namespace
 
-std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, PointFileFormat format) {
+std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, PointFileFormat format,
+                                                  const ReadOptions& options) {
   ByteSource source(path);
   const auto fail = [&path](std::size_t line, const std::string& what) {
     throw Error(ErrorCode::invalid_input, path + ": line " + std::to_string(line) + ": " + what);
@@ -93,7 +94,7 @@ std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, Point
   if (!impl) impl = make_impl(format, format != PointFileFormat::xyz);
   impl->header.elements[0].count = row_lines.size();
   locate_vertex_fields(*impl, path);
-  check_vertices(*impl, path, row_lines);
+  check_vertices(*impl, path, row_lines, InvalidRows::none, options.check_normals);
   return impl;
 }
 

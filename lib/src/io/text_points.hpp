@@ -16,7 +16,8 @@ namespace pnf {
 // "vertex" element with double x y z [nx ny nz]. Throws io when the file cannot be read and
 // invalid_input naming the file and line for a wrong number of values, a token that is not a
 // number, a non-finite value or a zero normal.
-std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, PointFileFormat format);
+std::unique_ptr<PointFile::Impl> read_text_points(const std::string& path, PointFileFormat format,
+                                                  const ReadOptions& options = {});
 
 // Writes the positions, and normals when `cloud` has them, one point per line with 17
 // significant digits so that every double reads back exactly. The caller checks that a format

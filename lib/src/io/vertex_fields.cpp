@@ -78,7 +78,7 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path) {
 }
 
 void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
-                    InvalidRows invalid_rows) {
+                    InvalidRows invalid_rows, bool check_normals) {
   const PlyElement& element = impl.header.elements[impl.vertex_element];
   const VertexFields& fields = impl.fields;
   const unsigned char* row = impl.values[impl.vertex_element].data();
@@ -125,13 +125,17 @@ void check_vertices(PointFile::Impl& impl, const std::string& path, const std::v
         fail(vertex, "coordinate " + element.properties[field].name + " is " + describe_value(value));
       }
     }
-    if (fields.has_normals()) {
+    if (fields.has_normals() && check_normals) {
       double normal[3];
       for (int axis = 0; axis < 3; ++axis) {
         normal[axis] = load(normal_fields[axis]);
         if (!std::isfinite(normal[axis])) {
+          // PCL's NormalEstimation leaves NaN where a point had too few neighbours: say what to do.
           fail(vertex, "normal component " + element.properties[normal_fields[axis]].name + " is " +
-                           describe_value(normal[axis]));
+                           describe_value(normal[axis]) +
+                           (std::isnan(normal[axis]) ? " (as PCL leaves the normal of a point with too few "
+                                                       "neighbours; `pnf estimate` computes new normals)"
+                                                     : ""));
         }
       }
       if (normal[0] == 0 && normal[1] == 0 && normal[2] == 0) {
