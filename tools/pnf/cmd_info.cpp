@@ -36,7 +36,9 @@ void print_pcd(const PcdHeader& pcd) {
 int run_info(const std::string& path) {
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
-    PointFile file = read_point_file(path);
+    ReadOptions read;
+    read.check_normals = false;  // counted below rather than refused: info describes any file
+    PointFile file = read_point_file(path, read);
     const PlyHeader& header = file.header();
     std::printf("%s\n", path.c_str());
     const PcdHeader* pcd = file.pcd_header();
@@ -59,7 +61,7 @@ int run_info(const std::string& path) {
       std::printf("\n");
     }
     PointCloud cloud = file.cloud();
-    if (pcd) {
+    if (pcd || file.valid_count() != file.size()) {
       std::printf("  points       %zu valid, %zu invalid (NaN coordinates: kept in place, left out of estimates)\n",
                   cloud.size(), file.size() - cloud.size());
     } else {
@@ -84,10 +86,19 @@ int run_info(const std::string& path) {
     if (!cloud.has_normals()) {
       std::printf("  normals      none (run pnf estimate)\n");
     } else {
-      std::size_t off = 0;
-      for (const Vec3& n : cloud.normals)
-        off += std::fabs(std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) > kUnitTolerance;
-      if (off == 0)
+      std::size_t off = 0, bad = 0;
+      for (const Vec3& n : cloud.normals) {
+        const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!std::isfinite(length) || length == 0)
+          ++bad;
+        else
+          off += std::fabs(length - 1) > kUnitTolerance;
+      }
+      if (bad > 0)
+        std::printf("  normals      yes, %zu NaN, infinite or zero (pnf filter refuses them; pnf estimate replaces "
+                    "every normal)\n",
+                    bad);
+      else if (off == 0)
         std::printf("  normals      yes, unit length\n");
       else
         std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)\n", off);
