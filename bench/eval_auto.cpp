@@ -272,7 +272,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-fandisk", no_fandisk, "skip fandisk");
   app.add_option("--shapes", shapes, "synthetic shapes to run");
   app.add_option("--noise", noises, "synthetic position noise levels, in spacings (per axis)");
-  app.add_option("--pca", pca_ks, "PCA neighbourhood sizes for the synthetic input normals");
+  app.add_option("--pca", pca_ks, "PCA neighbourhood sizes for the synthetic input normals (--pca 0: none)");
   app.add_option("--jitter", jitters,
                  "RMS tilts (degrees) of the synthetic shapes' jittered true normals, a case each (--jitter 0: none)");
   app.add_option("--fandisk-levels", fandisk_levels,
@@ -371,7 +371,9 @@ int main(int argc, char** argv) {
           c.true_noise = noise * spacing;
           report(c, evaluate(filter, c, !no_grid, grid_files, kFullGrid, estimate_only));
         };
-        for (int k : pca_ks) run_case("pca" + std::to_string(k), pca_normals(noisy, shape.normals, k), k);
+        for (int k : pca_ks) {
+          if (k > 0) run_case("pca" + std::to_string(k), pca_normals(noisy, shape.normals, k), k);
+        }
         for (double degrees : jitters) {
           if (!(degrees > 0)) continue;
           char source[32];
