@@ -300,7 +300,7 @@ std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double
   return count_scan_body(c, px, py, pz, radius2);
 }
 #if defined(__GNUC__) && defined(__x86_64__)
-#define PNF_HAVE_AVX512_SCAN 1
+#define PNF_HAVE_SIMD_SCANS 1  // the explicit AVX-512 and AVX2 scans below, x86-64 only
 // AVX-512 versions, 16 candidates a step: two 8-wide double tests (the same operations in the
 // same order as within(), so the same roundings) give a 16-bit mask; the count adds its bits,
 // the compaction packs the ids it selects with one in-register compress and a full-width store
@@ -445,7 +445,7 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
                      const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
                    const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
                    const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
-#ifdef PNF_HAVE_AVX512_SCAN
+#ifdef PNF_HAVE_SIMD_SCANS
                    if (tuning_.avx512_scan && cpu_has_avx512()) {
                      counts[i - first] = count_scan_avx512(c, px, py, pz, radius2);
                      return;
@@ -499,14 +499,14 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
         // Branch-free compaction into scratch (a member or not is a coin toss near the
         // boundary, which a branch predicts badly), then one copy into the list.
         std::size_t written = 0;
-#ifdef PNF_HAVE_AVX512_SCAN
+#ifdef PNF_HAVE_SIMD_SCANS
         const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
         const bool avx2 = !avx512 && tuning_.avx2_scan && cpu_has_avx2();
 #else
         const bool avx512 = false, avx2 = false;
 #endif
         if (avx512 || avx2) {
-#ifdef PNF_HAVE_AVX512_SCAN
+#ifdef PNF_HAVE_SIMD_SCANS
           const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
           written = avx512 ? compact_scan_avx512(c, ids.data(), px, py, pz, radius2, scratch.data())
                            : compact_scan_avx2(c, ids.data(), px, py, pz, radius2, scratch.data());
