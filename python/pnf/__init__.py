@@ -131,13 +131,17 @@ def estimate_normals(
     return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
 
 
-def read(path: PathLike) -> PointFile:
-    """Reads a point file (.ply in any encoding, .xyz, .xyzn, .pwn) losslessly: the PointFile
-    keeps every element, property, comment and value, and writes them back unchanged.
+def read(path: PathLike, check_normals: bool = True) -> PointFile:
+    """Reads a point file (.ply in any encoding, .pcd, .xyz, .xyzn, .pwn) losslessly: the
+    PointFile keeps every element, property, comment and value, and writes them back unchanged.
+
+    check_normals=False reads the file's normals as they are (NaN, infinite or zero ones
+    included, as PCL's NormalEstimation leaves NaN on points with too few neighbours), for a
+    caller that replaces them, e.g. with estimate_normals(f.points).
 
     Raises OSError when the file cannot be read, ValueError when it is malformed.
     """
-    return _pnf.read(path)
+    return _pnf.read(path, bool(check_normals))
 
 
 def write(

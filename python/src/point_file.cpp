@@ -112,12 +112,14 @@ void bind_point_file(py::module_& m) {
       });
   m.def(
       "read",
-      [](py::handle path) {
+      [](py::handle path, bool check_normals) {
         const std::string p = path_string(path);
+        ReadOptions options;
+        options.check_normals = check_normals;
         py::gil_scoped_release nogil;
-        return read_point_file(p);
+        return read_point_file(p, options);
       },
-      "path"_a);
+      "path"_a, "check_normals"_a);
 }
 
 }  // namespace pnf::python

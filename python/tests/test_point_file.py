@@ -122,3 +122,19 @@ def test_setting_bad_normals_raises(tmp_path):
     bad[3] = 0.0
     with pytest.raises(ValueError, match="3"):
         f.normals = bad
+
+
+def test_nan_normals_are_refused_unless_asked_for_and_can_be_replaced(tmp_path):
+    # PCL's NormalEstimation leaves NaN normals on points with too few neighbours.
+    points, normals, _ = noisy_cube(6)
+    normals = normals.copy()
+    normals[3] = np.nan
+    path = tmp_path / "nan_normal.ply"
+    write_extra_ply(path, points, normals)
+    with pytest.raises(ValueError, match="vertex 3.*NaN.*pnf estimate"):
+        pnf.read(path)
+    f = pnf.read(path, check_normals=False)
+    assert np.isnan(f.normals[3]).all() and np.isfinite(np.delete(f.normals, 3, axis=0)).all()
+    f.normals = pnf.estimate_normals(f.points, orient="outward")
+    f.write(tmp_path / "fixed.ply", ascii=True)
+    assert np.isfinite(pnf.read(tmp_path / "fixed.ply").normals).all()
