@@ -299,6 +299,22 @@ PNF_WIDE_SCAN std::uint32_t count_scan_wide(const Candidates& c, double px, doub
 std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double pz, double radius2) {
   return count_scan_body(c, px, py, pz, radius2);
 }
+// The scalar ends of the vector scans below: candidates [k, size) by within() itself.
+inline std::uint32_t count_tail(const Candidates& c, std::size_t k, double px, double py, double pz,
+                                double radius2) {
+  std::uint32_t n = 0;
+  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  return n;
+}
+inline std::size_t compact_tail(const Candidates& c, const std::uint32_t* ids, std::size_t k, double px, double py,
+                                double pz, double radius2, std::uint32_t* out, std::size_t written) {
+  for (; k < c.size; ++k) {
+    out[written] = ids[k];
+    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
+  }
+  return written;
+}
+
 #if defined(__GNUC__) && defined(__x86_64__)
 #define PNF_HAVE_SIMD_SCANS 1  // the explicit AVX-512 and AVX2 scans below, x86-64 only
 // AVX-512 versions, 16 candidates a step: two 8-wide double tests (the same operations in the
@@ -327,8 +343,7 @@ __attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candida
   std::uint32_t n = 0;
   std::size_t k = 0;
   for (; k + 16 <= c.size; k += 16) n += std::uint32_t(__builtin_popcount(unsigned(within16(c, k, vx, vy, vz, vr))));
-  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
-  return n;
+  return n + count_tail(c, k, px, py, pz, radius2);
 }
 
 __attribute__((target("avx512f"))) std::size_t compact_scan_avx512(const Candidates& c, const std::uint32_t* ids,
@@ -343,11 +358,7 @@ __attribute__((target("avx512f"))) std::size_t compact_scan_avx512(const Candida
     _mm512_storeu_si512(out + written, packed);
     written += std::size_t(__builtin_popcount(unsigned(keep)));
   }
-  for (; k < c.size; ++k) {
-    out[written] = ids[k];
-    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
-  }
-  return written;
+  return compact_tail(c, ids, k, px, py, pz, radius2, out, written);
 }
 
 bool cpu_has_avx512() {
@@ -382,8 +393,7 @@ __attribute__((target("avx2"))) std::uint32_t count_scan_avx2(const Candidates& 
   std::uint32_t n = 0;
   std::size_t k = 0;
   for (; k + 8 <= c.size; k += 8) n += std::uint32_t(__builtin_popcount(within8_avx2(c, k, vx, vy, vz, vr)));
-  for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
-  return n;
+  return n + count_tail(c, k, px, py, pz, radius2);
 }
 
 // For each 8-bit mask, the positions of its set bits in order, one byte each, the rest 0.
@@ -416,11 +426,7 @@ __attribute__((target("avx2"))) std::size_t compact_scan_avx2(const Candidates& 
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + written), packed);
     written += std::size_t(__builtin_popcount(keep));
   }
-  for (; k < c.size; ++k) {
-    out[written] = ids[k];
-    written += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
-  }
-  return written;
+  return compact_tail(c, ids, k, px, py, pz, radius2, out, written);
 }
 
 bool cpu_has_avx2() {
@@ -498,26 +504,19 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
         const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
         // Branch-free compaction into scratch (a member or not is a coin toss near the
         // boundary, which a branch predicts badly), then one copy into the list.
-        std::size_t written = 0;
+        const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
+        std::size_t written;
 #ifdef PNF_HAVE_SIMD_SCANS
-        const bool avx512 = tuning_.avx512_scan && cpu_has_avx512();
-        const bool avx2 = !avx512 && tuning_.avx2_scan && cpu_has_avx2();
-#else
-        const bool avx512 = false, avx2 = false;
+        if (tuning_.avx512_scan && cpu_has_avx512()) {
+          written = compact_scan_avx512(c, ids.data(), px, py, pz, radius2, scratch.data());
+        } else if (tuning_.avx2_scan && cpu_has_avx2()) {
+          written = compact_scan_avx2(c, ids.data(), px, py, pz, radius2, scratch.data());
+        } else
 #endif
-        if (avx512 || avx2) {
-#ifdef PNF_HAVE_SIMD_SCANS
-          const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
-          written = avx512 ? compact_scan_avx512(c, ids.data(), px, py, pz, radius2, scratch.data())
-                           : compact_scan_avx2(c, ids.data(), px, py, pz, radius2, scratch.data());
-#endif
-        } else {
+        {
           // Plain even where wide_scan is set: the auto-vectorised flags-then-compact variant
           // lost to this loop on the dog (docs/performance.md).
-          for (std::size_t c = 0; c < ids.size(); ++c) {
-            scratch[written] = ids[c];
-            written += within(cx[c] - px, cy[c] - py, cz[c] - pz, radius2);
-          }
+          written = compact_tail(c, ids.data(), 0, px, py, pz, radius2, scratch.data(), 0);
         }
         const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
         if (written != capacity) {
