@@ -216,7 +216,7 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
  *   pnf_gather16        four float16 of four rows, shuffles across the 128-bit halves: 4-8%
  *                       faster than lane by lane on AVX-512 (native width 16);
  *   pnf_gather8_inlane  4x4 transposes inside the 128-bit halves (one unpack or move-half
- *                       instruction each on AVX2, where crossing halves costs a permute): 10%
+ *                       instruction each on AVX2, where crossing halves costs a permute): 1.05-1.2x
  *                       faster than pnf_gather16 on AVX2 (native width 8), and the 8-lane gather.
  * pnf_gather_step is the one a build uses. PNF_ROW_GATHER=0 (the bench's --kernel-options)
  * restores the lane-by-lane gather, to measure it; PNF_GATHER_IN_HALVES=1 picks the in-half shape

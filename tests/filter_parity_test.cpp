@@ -1,8 +1,8 @@
 // OpenCL on the selected device against the double-precision reference, to SPEC's tolerance:
 // after 4 passes, 0.01 degrees on 99.9% of points and 0.1 degrees on every point. Every case runs
 // at each kernel lane width a device type gets (1 on GPUs; 4, 8 or 16 on CPUs), and the 16-lane
-// kernel in both of its shapes (gather and sums for a native vector of 16 floats, AVX-512, and of
-// 8, AVX2: PNF_NATIVE_FLOATS), selected through the internal backend factory, so the 1-lane
+// kernel with both of its gathers (for a native vector of 16 floats, AVX-512, and of 8, AVX2:
+// PNF_NATIVE_FLOATS), selected through the internal backend factory, so the 1-lane
 // kernel that GPUs run, and the shape another CPU would build, are checked here.
 #include <gtest/gtest.h>
 

@@ -135,7 +135,7 @@ struct WriteOptions {
 
 // The contents of one point file. Always holds a "vertex" element with scalar x, y, z
 // properties, and every valid point has finite coordinates and finite, non-zero normals
-// (checked on read and by set_normals). For a PCD file the vertex element has one property per
+// (checked on read, unless ReadOptions::check_normals is false, and by set_normals). For a PCD file the vertex element has one property per
 // value of each field (a field of COUNT k > 1 gives name_0 ... name_{k-1}), and only rows with a
 // NaN coordinate are invalid (see the top of this header).
 class PointFile {
