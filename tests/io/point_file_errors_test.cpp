@@ -210,6 +210,11 @@ TEST(PointFileErrors, NonFiniteOrZeroVectors) {
   const std::string header = kXyzHeader;
   expect_invalid_input(dir, "nan.ply", header + "1 2 3 0 0 1\n1 2 3 0 0 1\n1 nan 3 0 0 1\n",
                        {"line 13", "vertex 2", "coordinate y is NaN"});
+  // Without normals too: only all three coordinates NaN mark an invalid point (PcdFile tests).
+  expect_invalid_input(dir, "nan_no_normals.ply",
+                       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                       "property float z\nend_header\n0 0 0\nnan 0 0\n1 0 0\n",
+                       {"line 9", "vertex 1", "coordinate x is NaN"});
   expect_invalid_input(dir, "inf.ply", header + "1 2 3 0 0 1\n1 2 3 0 -inf 1\n1 2 3 0 0 1\n",
                        {"line 12", "vertex 1", "normal component ny is -infinity"});
   expect_invalid_input(dir, "zero.ply", header + "1 2 3 0 0 1\n1 2 3 0 0 1\n1 2 3 0 0 -0\n",
