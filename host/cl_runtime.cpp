@@ -123,11 +123,6 @@ std::size_t ClRuntime::max_alloc_bytes() const {
                         [&] { return static_cast<std::size_t>(device_.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>()); });
 }
 
-unsigned ClRuntime::native_float_width() const {
-  return with_cl_errors(info_.device_name,
-                        [&] { return static_cast<unsigned>(device_.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>()); });
-}
-
 std::vector<DeviceInfo> enumerate_device_infos() { return infos(enumerate_devices()); }
 
 cl::Kernel ClRuntime::kernel(const std::string& file, const std::string& kernel_name, const std::string& options) {

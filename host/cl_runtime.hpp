@@ -40,9 +40,6 @@ class ClRuntime {
   cl::CommandQueue& queue() { return queue_; }
   // Largest single buffer the device accepts, in bytes. Throws pnf::Error(device).
   std::size_t max_alloc_bytes() const;
-  // CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT: floats in the device's native vector (8 on AVX2, 16 on
-  // AVX-512 for PoCL; 1 on GPUs).
-  unsigned native_float_width() const;
 
   // The kernel `kernel_name` from embedded file `file`, building the program once per file and
   // option set. A failed build throws pnf::Error(device) carrying the build log and options.

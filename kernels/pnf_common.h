@@ -12,12 +12,6 @@
 #ifndef PNF_LANES
 #define PNF_LANES 1
 #endif
-/* PNF_NATIVE_FLOATS: the device's native float vector width (CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT,
- * a build option the host sets: 8 on AVX2, 16 on AVX-512). It sets the shape of the 16-lane
- * kernel's gather below, not the arithmetic. */
-#ifndef PNF_NATIVE_FLOATS
-#define PNF_NATIVE_FLOATS 16
-#endif
 
 #ifdef __OPENCL_VERSION__
 #define PNF_FN static inline
@@ -210,26 +204,36 @@ PNF_FN pnf_real pnf_lane_sum(pnf_lane v) {
 
 /* Gathers for the wide kernels: a step's neighbours are loaded as float4 rows and transposed by
  * shuffles into x, y and z columns, rather than built lane by lane (data movement only: the
- * arithmetic is the shared pnf_accumulate). Two shapes of the same transpose, chosen by the host
- * from the device's native float vector width (opencl_backend.cpp), as each wins on its own
- * vector unit (docs/performance.md):
- *   pnf_gather16        four float16 of four rows, shuffles across the 128-bit halves: 4-8%
- *                       faster than lane by lane on AVX-512 (native width 16);
- *   pnf_gather8_inlane  4x4 transposes inside the 128-bit halves (one unpack or move-half
- *                       instruction each on AVX2, where crossing halves costs a permute): 1.05-1.2x
- *                       faster than pnf_gather16 on AVX2 (native width 8), and the 8-lane gather.
+ * arithmetic is the shared pnf_accumulate). Two shapes of the same transpose (docs/performance.md):
+ *   pnf_gather8_inlane  4x4 transposes inside the 128-bit halves, one unpack or move-half
+ *                       instruction each; two of them make the 16-lane gather. The default on
+ *                       every device: 1.05-1.2x faster than pnf_gather16 on AVX2 and, once forced
+ *                       inline, 1.1-1.15x on AVX-512;
+ *   pnf_gather16        four float16 of four rows, shuffles across the 128-bit halves
+ *                       (PNF_GATHER_IN_HALVES=0, to measure it).
  * pnf_gather_step is the one a build uses. PNF_ROW_GATHER=0 (the bench's --kernel-options)
- * restores the lane-by-lane gather, to measure it; PNF_GATHER_IN_HALVES=1 picks the in-half shape
- * for 16 lanes (the default where PNF_NATIVE_FLOATS < 16). */
+ * restores the lane-by-lane gather, to measure it. */
 #if defined(__OPENCL_VERSION__) && (PNF_LANES == 16 || PNF_LANES == 8)
 #ifndef PNF_ROW_GATHER
 #define PNF_ROW_GATHER 1
 #endif
 #ifndef PNF_GATHER_IN_HALVES
-#define PNF_GATHER_IN_HALVES (PNF_NATIVE_FLOATS < 16)
+#define PNF_GATHER_IN_HALVES 1
+#endif
+/* Forced inline: left to its inliner, PoCL's compiler made the gather a call, and around each call
+ * the step's live vectors went to the stack and back (docs/performance.md). PNF_INLINE_GATHER=0
+ * restores the hint alone, to measure it. */
+#ifndef PNF_INLINE_GATHER
+#define PNF_INLINE_GATHER 1
+#endif
+#if PNF_INLINE_GATHER
+#define PNF_GATHER_FN static inline __attribute__((always_inline))
+#else
+#define PNF_GATHER_FN PNF_FN
 #endif
 /* Rows a[ids[0..16)] (x, y, z, unused) as their x, y and z columns. */
-PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, float16* x, float16* y, float16* z) {
+PNF_GATHER_FN void pnf_gather16(__global const float4* a, __global const uint* ids, float16* x, float16* y,
+                                float16* z) {
   const float16 r0 = (float16)(a[ids[0]], a[ids[1]], a[ids[2]], a[ids[3]]);
   const float16 r1 = (float16)(a[ids[4]], a[ids[5]], a[ids[6]], a[ids[7]]);
   const float16 r2 = (float16)(a[ids[8]], a[ids[9]], a[ids[10]], a[ids[11]]);
@@ -248,8 +252,8 @@ PNF_FN void pnf_gather16(__global const float4* a, __global const uint* ids, flo
 
 /* Rows a[ids[0..8)] as columns, in the lane order 0 2 4 6 1 3 5 7: the same order for every
  * column, and a step's lanes are only summed. */
-PNF_FN void pnf_gather8_inlane(__global const float4* a, __global const uint* ids, float8* x, float8* y,
-                               float8* z) {
+PNF_GATHER_FN void pnf_gather8_inlane(__global const float4* a, __global const uint* ids, float8* x, float8* y,
+                                      float8* z) {
   const float8 r0 = (float8)(a[ids[0]], a[ids[1]]);
   const float8 r1 = (float8)(a[ids[2]], a[ids[3]]);
   const float8 r2 = (float8)(a[ids[4]], a[ids[5]]);
@@ -265,8 +269,8 @@ PNF_FN void pnf_gather8_inlane(__global const float4* a, __global const uint* id
   *z = shuffle2(t2, t3, move_lo);
 }
 
-PNF_FN void pnf_gather16_inlane(__global const float4* a, __global const uint* ids, float16* x, float16* y,
-                                float16* z) {
+PNF_GATHER_FN void pnf_gather16_inlane(__global const float4* a, __global const uint* ids, float16* x, float16* y,
+                                       float16* z) {
   float8 x0, y0, z0, x1, y1, z1;
   pnf_gather8_inlane(a, ids, &x0, &y0, &z0);
   pnf_gather8_inlane(a, ids + 8, &x1, &y1, &z1);

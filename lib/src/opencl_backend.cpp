@@ -33,11 +33,6 @@ class OpenClBackend : public FilterBackend {
   OpenClBackend(const std::string& selector, int lanes, const std::string& extra_options) : runtime_(selector) {
     lanes_ = lanes > 0 ? lanes : runtime_.info().type == "gpu" ? kGpuLanes : kCpuLanes;
     std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
-    // The wide kernels shape their gather by the device's native vector width (pnf_common.h).
-    // Extra options that set it themselves decide (to measure it).
-    if (extra_options.find("PNF_NATIVE_FLOATS") == std::string::npos) {
-      options += " -DPNF_NATIVE_FLOATS=" + std::to_string(runtime_.native_float_width());
-    }
     if (!extra_options.empty()) options += " " + extra_options;
     kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
   }
