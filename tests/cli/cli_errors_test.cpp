@@ -317,6 +317,14 @@ TEST_F(CliErrorTest, UnknownFlagsAndCommands) {
   EXPECT_EQ(folder_entries(work_), before);
 }
 
+// A mistyped command is named, with the ones there are (as git does), not "a subcommand is required".
+TEST_F(CliErrorTest, MistypedCommandIsNamed) {
+  const CliRun r = run({"fliter", "in.ply", "out.ply"});
+  EXPECT_EQ(r.exit_code, kExitUsage) << r.describe();
+  EXPECT_NE(r.err.find("'fliter' is not a pnf command"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("filter, estimate, info"), std::string::npos) << r.err;
+}
+
 // ---- device errors: exit 4 --------------------------------------------------------------------
 
 // Whether or not OpenCL is present, a selector that matches nothing is a device error.

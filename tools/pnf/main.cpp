@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "cli_common.hpp"
@@ -40,6 +41,21 @@ int main(int argc, char** argv) {
   std::vector<Command> commands = {add_filter_command(app),  add_estimate_command(app), add_info_command(app),
                                    add_devices_command(app), add_demo_command(app),     add_render_command(app),
                                    add_compare_command(app)};
+  // CLI11 would answer a mistyped command with "A subcommand is required": name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string word = argv[1];
+    std::string names;
+    bool known = false;
+    for (const Command& c : commands) {
+      known = known || c.app->check_name(word);
+      names += (names.empty() ? "" : ", ") + c.app->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "pnf: '%s' is not a pnf command; the commands are %s (pnf --help)\n", word.c_str(),
+                   names.c_str());
+      return kUsage;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
