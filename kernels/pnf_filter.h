@@ -34,9 +34,9 @@ PNF_FN pnf_coeffs pnf_make_coeffs(pnf_real sigma_f, pnf_real sigma_g) {
 
 /* The running sums of the header comment, per lane. */
 typedef struct {
-  pnf_lane w;          /* D */
-  pnf_lane gx, gy, gz; /* G */
-  pnf_lane sx, sy, sz; /* S */
+  pnf_lane w;                                           /* D */
+  pnf_lane gx, gy, gz;                                  /* G */
+  pnf_lane sx, sy, sz;                                  /* S */
   pnf_lane mxx, mxy, mxz, myx, myy, myz, mzx, mzy, mzz; /* M, row i = n_i, column k = d/dx_k */
 } pnf_sums;
 
@@ -64,13 +64,13 @@ PNF_FN pnf_sums pnf_sums_zero(void) {
 /* Adds PNF_LANES neighbours to the sums: d = p - x and their normals n, lane by lane. A lane
  * whose exponent is below `cut` adds nothing (PNF_WEIGHT_CUT_EXPONENT; 1 for a padding lane,
  * as every exponent is <= 0). */
-PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_lane dx, pnf_lane dy, pnf_lane dz, pnf_lane nx, pnf_lane ny,
-                           pnf_lane nz, pnf_lane cut, pnf_coeffs c) {
+PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_lane dx, pnf_lane dy, pnf_lane dz, pnf_lane nx, pnf_lane ny, pnf_lane nz,
+                           pnf_lane cut, pnf_coeffs c) {
   pnf_lane dist2 = dx * dx + dy * dy + dz * dz;
   pnf_lane h = dx * nx + dy * ny + dz * nz;
   pnf_lane gh = (pnf_lane)c.inv_two_sigma_g2 * h;
-  pnf_sdual e = pnf_sdual_make(-((pnf_lane)c.inv_two_sigma_f2 * dist2 + gh * h), (pnf_lane)(2 * c.inv_two_sigma_f2),
-                               gh + gh);
+  pnf_sdual e =
+      pnf_sdual_make(-((pnf_lane)c.inv_two_sigma_f2 * dist2 + gh * h), (pnf_lane)(2 * c.inv_two_sigma_f2), gh + gh);
   pnf_sdual w = pnf_sdual_exp_cut(e, cut);
   pnf_sdual q = pnf_sdual_mul_h(w, h);
   acc->w += w.v;
@@ -93,6 +93,27 @@ PNF_FN void pnf_accumulate(pnf_sums* acc, pnf_lane dx, pnf_lane dy, pnf_lane dz,
   acc->mzx += nz * ux;
   acc->mzy += nz * uy;
   acc->mzz += nz * uz;
+}
+
+/* A step's neighbours built lane by lane (the reference, GPUs, the partial last step): d = p - q
+ * and n per lane, as pnf_accumulate takes them. */
+typedef struct {
+  pnf_real dx[PNF_LANES], dy[PNF_LANES], dz[PNF_LANES];
+  pnf_real nx[PNF_LANES], ny[PNF_LANES], nz[PNF_LANES];
+} pnf_lane_rows;
+
+PNF_FN void pnf_set_lane(pnf_lane_rows* r, int k, pnf_real4 p, pnf_real4 n, pnf_real qx, pnf_real qy, pnf_real qz) {
+  r->dx[k] = p.x - qx;
+  r->dy[k] = p.y - qy;
+  r->dz[k] = p.z - qz;
+  r->nx[k] = n.x;
+  r->ny[k] = n.y;
+  r->nz[k] = n.z;
+}
+
+PNF_FN void pnf_accumulate_rows(pnf_sums* acc, const pnf_lane_rows* r, pnf_lane cut, pnf_coeffs c) {
+  pnf_accumulate(acc, pnf_lane_load(r->dx), pnf_lane_load(r->dy), pnf_lane_load(r->dz), pnf_lane_load(r->nx),
+                 pnf_lane_load(r->ny), pnf_lane_load(r->nz), cut, c);
 }
 
 /* A lane sum's value and the three partials of its gradient, as a dual. */
@@ -136,13 +157,13 @@ PNF_FN pnf_dvec3 pnf_finish_F(pnf_sums acc, pnf_vec3 x_local) {
  * are cut (weight 0). Working relative to o keeps float32 precise far from the cloud's centre:
  * p - o is exact for nearby floats, and F - o is of the size of the neighbourhood. */
 PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_index* indices, pnf_offset begin,
-                            pnf_offset end, PNF_GLOBAL const pnf_real4* positions,
-                            PNF_GLOBAL const pnf_real4* normals, pnf_coeffs c) {
+                            pnf_offset end, PNF_GLOBAL const pnf_real4* positions, PNF_GLOBAL const pnf_real4* normals,
+                            pnf_coeffs c) {
   pnf_real4 o = positions[s];
   const pnf_real qx = o.x + x_local.x, qy = o.y + x_local.y, qz = o.z + x_local.z;
   pnf_sums acc = pnf_sums_zero();
   const pnf_offset full = begin + (end - begin) / PNF_LANES * PNF_LANES;
-  pnf_real dx[PNF_LANES], dy[PNF_LANES], dz[PNF_LANES], nx[PNF_LANES], ny[PNF_LANES], nz[PNF_LANES];
+  pnf_lane_rows rows;
   for (pnf_offset e = begin; e < full; e += PNF_LANES) {
 #if PNF_ROW_GATHER
     pnf_lane px, py, pz, vx, vy, vz;
@@ -151,38 +172,22 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_
     pnf_accumulate(&acc, px - qx, py - qy, pz - qz, vx, vy, vz, (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
 #else
     for (int k = 0; k < PNF_LANES; ++k) {
-      pnf_index j = indices[e + k];
-      pnf_real4 p = positions[j];
-      pnf_real4 n = normals[j];
-      dx[k] = p.x - qx;
-      dy[k] = p.y - qy;
-      dz[k] = p.z - qz;
-      nx[k] = n.x;
-      ny[k] = n.y;
-      nz[k] = n.z;
+      const pnf_index j = indices[e + k];
+      pnf_set_lane(&rows, k, positions[j], normals[j], qx, qy, qz);
     }
-    pnf_accumulate(&acc, pnf_lane_load(dx), pnf_lane_load(dy), pnf_lane_load(dz), pnf_lane_load(nx),
-                   pnf_lane_load(ny), pnf_lane_load(nz), (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
+    pnf_accumulate_rows(&acc, &rows, (pnf_lane)(PNF_WEIGHT_CUT_EXPONENT), c);
 #endif
   }
 #if PNF_LANES > 1
   if (full < end) {
     pnf_real cut[PNF_LANES];
     for (int k = 0; k < PNF_LANES; ++k) {
-      int real = full + k < end;
-      pnf_index j = real ? indices[full + k] : s;
-      pnf_real4 p = positions[j];
-      pnf_real4 n = normals[j];
-      dx[k] = p.x - qx;
-      dy[k] = p.y - qy;
-      dz[k] = p.z - qz;
-      nx[k] = n.x;
-      ny[k] = n.y;
-      nz[k] = n.z;
+      const int real = full + k < end;
+      const pnf_index j = real ? indices[full + k] : s;
+      pnf_set_lane(&rows, k, positions[j], normals[j], qx, qy, qz);
       cut[k] = real ? (pnf_real)(PNF_WEIGHT_CUT_EXPONENT) : (pnf_real)1;
     }
-    pnf_accumulate(&acc, pnf_lane_load(dx), pnf_lane_load(dy), pnf_lane_load(dz), pnf_lane_load(nx),
-                   pnf_lane_load(ny), pnf_lane_load(nz), pnf_lane_load(cut), c);
+    pnf_accumulate_rows(&acc, &rows, pnf_lane_load(cut), c);
   }
 #endif
   return pnf_finish_F(acc, x_local);
