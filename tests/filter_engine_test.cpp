@@ -38,6 +38,7 @@ class RefusingBackend : public FilterBackend {
       ++refusals;
       throw pnf::detail::DeviceMemoryError("test device refuses " + std::to_string(pairs * 4) + " bytes");
     }
+    ++fills;
     return inner_->begin_lists(first, count, pairs);
   }
   void end_lists() override { inner_->end_lists(); }
@@ -48,6 +49,7 @@ class RefusingBackend : public FilterBackend {
   std::vector<double> download_normals() override { return inner_->download_normals(); }
   void replace_normals(const std::vector<double>& n) override { inner_->replace_normals(n); }
   int refusals = 0;
+  int fills = 0;  // chunks' lists written
 
  private:
   std::unique_ptr<FilterBackend> inner_;
@@ -83,6 +85,26 @@ TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
   EXPECT_GE(refusing.refusals, 1);
   EXPECT_GE(chunked.summary.allocation_retries, 1);
   EXPECT_GE(chunked.summary.chunks, 5u);
+  EXPECT_EQ(chunked.normals, whole.normals);
+}
+
+TEST(FilterEngine, ChunkedPassesRefillOneChunkFewerAfterTheFirst) {
+  // Passes alternate the chunks' order, so the chunk that ends a pass starts the next without
+  // being filled again; the result is the whole run's all the same.
+  pnf::PointCloud ball = noisy_sphere(3000, 3);
+  pnf::FilterOptions options;
+  options.device = pnf::Device::reference();
+  pnf::FilterParams params;
+  params.iterations = 5;
+  auto whole_backend = pnf::detail::make_reference_backend(1);
+  const pnf::FilterResult whole = run_engine(*whole_backend, options, ball, params, {});
+  options.memory.budget_bytes = whole.summary.neighbour_pairs * 4 / 3;  // about a third of the lists at a time
+  RefusingBackend counting(std::size_t(1) << 40);                       // refuses nothing
+  const pnf::FilterResult chunked = run_engine(counting, options, ball, params, {});
+  const int n = int(chunked.summary.chunks);
+  ASSERT_GE(n, 3);
+  EXPECT_EQ(counting.refusals, 0);
+  EXPECT_EQ(counting.fills, n + (params.iterations - 1) * (n - 1));
   EXPECT_EQ(chunked.normals, whole.normals);
 }
 
@@ -147,7 +169,6 @@ TEST(FilterEngine, WorkPastTheTimeLimitIsRefusedFromAProbeWithTheNumbers) {
   }
   // Not a timing test: a refusal that took as long as the run would be no refusal at all.
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
-
 }
 
 TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {

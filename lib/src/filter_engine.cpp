@@ -145,7 +145,8 @@ WorkPoll list_poll(const ProgressCallback& progress, int passes_done, int passes
                    double from, double share) {
   if (!progress) return {};
   return [&progress, passes_done, passes, stage_start, from, share](double f) {
-    return progress(PassProgress{passes_done, passes, seconds_since(stage_start), ProgressStage::lists, from + share * f});
+    return progress(
+        PassProgress{passes_done, passes, seconds_since(stage_start), ProgressStage::lists, from + share * f});
   };
 }
 
@@ -193,14 +194,14 @@ void idle_passes(const DistributedPart& part, const FilterParams& params, const 
 }  // namespace
 
 FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
-                         MutableVec3ArrayView normals_out, const FilterParams& params,
-                         const ProgressCallback& progress, const DistributedPart* part) {
+                         MutableVec3ArrayView normals_out, const FilterParams& params, const ProgressCallback& progress,
+                         const DistributedPart* part) {
   params.validate();
   check_cloud(cloud, CloudRequirements::filter());
   const std::size_t owned = part ? part->owned : cloud.size();
   if (owned > cloud.size()) {
-    throw Error(ErrorCode::invalid_argument, "a distributed part owns " + std::to_string(owned) + " of " +
-                                                 std::to_string(cloud.size()) + " points");
+    throw Error(ErrorCode::invalid_argument,
+                "a distributed part owns " + std::to_string(owned) + " of " + std::to_string(cloud.size()) + " points");
   }
   if (normals_out.count != owned) {
     throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
@@ -282,8 +283,8 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   }
   std::vector<double> halo(3 * (cloud.size() - owned));
   for (;;) {
-    const std::vector<Chunk> chunks = owned > 0 ? plan_chunks(counts, budget, backend.max_list_bytes())
-                                                : std::vector<Chunk>{};
+    const std::vector<Chunk> chunks =
+        owned > 0 ? plan_chunks(counts, budget, backend.max_list_bytes()) : std::vector<Chunk>{};
     summary.chunks = chunks.size();
     summary.pass_seconds.clear();
     summary.kernel_seconds.clear();
@@ -322,12 +323,20 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
       std::vector<double> previous = ordered.normals;  // for the stop rule
       summary.mean_change_deg.clear();
       summary.passes_run = 0;
+      // Chunked passes run their chunks forwards, then backwards, and so on: the chunk that ends a
+      // pass is still in the buffer to start the next one, so each pass after the first refills one
+      // chunk fewer. Every chunk of a pass reads the previous pass's normals, so the order does not
+      // change the result.
+      std::size_t loaded = whole ? 0 : chunks.size();  // the chunk whose lists the buffer holds
       for (int pass = 1; pass <= params.iterations; ++pass) {
         auto pass_start = Clock::now();
-        for (std::size_t c = 0; c < chunks.size(); ++c) {
-          const Chunk& chunk = chunks[c];
+        for (std::size_t i = 0; i < chunks.size(); ++i) {
+          const std::size_t c = pass % 2 == 1 ? i : chunks.size() - 1 - i;
           // Chunked: the lists stage of each pass is its chunks' fills, in turn.
-          if (!whole) load_chunk(chunk, pass - 1, pass_start, double(c) / double(chunks.size()), 1.0 / double(chunks.size()));
+          if (c != loaded) {
+            load_chunk(chunks[c], pass - 1, pass_start, double(i) / double(chunks.size()), 1.0 / double(chunks.size()));
+            loaded = c;
+          }
           backend.run_chunk(coefficients);
         }
         summary.kernel_seconds.push_back(backend.end_pass());

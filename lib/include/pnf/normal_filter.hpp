@@ -23,7 +23,8 @@ struct FilterFactory;  // internal: builds filters with kernel tuning the public
 // How much memory and work a run may take.
 struct MemoryPolicy {
   // Neighbour lists (4 bytes a pair, plus 8 a point) larger than this are not kept for the whole
-  // cloud: the cloud is processed in chunks of points whose lists fit, rebuilt each pass. Same
+  // cloud: the cloud is processed in chunks of points whose lists fit, rebuilt each pass (all but
+  // the chunk that ended the previous pass, whose lists are still in the buffer). Same
   // result, bounded memory. The lists are written once, into the device buffer (on a CPU device
   // that is host memory). Default 3 GiB: the paper's 400k-point dog (1.3 GB of lists) stays
   // whole, a 2M-point cloud at sigma_f 8 (6.5 GB) runs in chunks under 4 GiB in all. > 0.
