@@ -54,8 +54,8 @@ FilterOptions filter_options(const std::optional<std::string>& device, const std
 // The progress callback the library calls after each pass and about every 0.2 s while it builds
 // the neighbour lists, with the GIL released. It takes the GIL back to run Python's signal
 // handlers (so Ctrl-C raises KeyboardInterrupt between passes and during the list build) and,
-// after a pass only, the user's callable: its contract stays (pass, passes, seconds). Any Python exception is kept in `pending` and cancels the run; the
-// caller rethrows it in place of pnf::Error(cancelled).
+// after a pass only, the user's callable: its contract stays (pass, passes, seconds). Any Python exception is kept in
+// `pending` and cancels the run; the caller rethrows it in place of pnf::Error(cancelled).
 ProgressCallback python_progress(const py::object& callable, std::exception_ptr& pending) {
   // Captures by reference only: the library may copy the std::function without the GIL.
   return [&callable, &pending](const PassProgress& p) -> bool {
@@ -230,9 +230,8 @@ py::object render(py::handle points, py::handle normals, py::handle radii, int w
   py::object image = new_image_array(std::size_t(height), std::size_t(width), &pixels);
   {
     py::gil_scoped_release nogil;
-    // render_points takes a PointCloud (no view overload yet): the one copy the module makes.
-    const Image drawn =
-        render_points(to_point_cloud(view), reference ? to_vectors(reference->view()) : std::vector<Vec3>{}, options);
+    // The arrays are read in place; the image is drawn once and copied into the numpy array.
+    const Image drawn = render_points(view, reference ? reference->view() : Vec3ArrayView{}, options);
     std::copy(drawn.rgb.begin(), drawn.rgb.end(), pixels);
   }
   return image;
@@ -253,7 +252,8 @@ void bind_results(py::module_& m) {
       .def_readonly("points", &DataEstimate::points)
       .def_readonly("samples", &DataEstimate::samples)
       .def_readonly("mean_radius", &DataEstimate::mean_radius)
-      .def_property_readonly("radius_source", [](const DataEstimate& e) { return std::string(to_string(e.radius_source)); })
+      .def_property_readonly("radius_source",
+                             [](const DataEstimate& e) { return std::string(to_string(e.radius_source)); })
       .def_readonly("area_spacing", &DataEstimate::area_spacing)
       .def_readonly("position_noise", &DataEstimate::position_noise)
       .def_readonly("normal_noise_deg", &DataEstimate::normal_noise_deg)
@@ -271,7 +271,8 @@ void bind_results(py::module_& m) {
                    "DataEstimate(points={}, mean_radius={:.6g}, area_spacing={:.6g}, position_noise={:.4g}, "
                    "normal_noise_deg={:.3g}, "
                    "feature_share={:.3f}, curved_share={:.3f})")
-            .format(e.points, e.mean_radius, e.area_spacing, e.position_noise, e.normal_noise_deg, e.feature_share, e.curved_share);
+            .format(e.points, e.mean_radius, e.area_spacing, e.position_noise, e.normal_noise_deg, e.feature_share,
+                    e.curved_share);
       });
   py::class_<AutoChoice>(m, "AutoChoice", "The parameters `pnf filter --auto` picks, and what it measured.")
       .def_property_readonly("sigma_f", [](const AutoChoice& c) { return c.params.sigma_f; })
@@ -327,8 +328,7 @@ PYBIND11_MODULE(_pnf, m) {
   // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
-        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true),
-        "max_seconds"_a.none(true));
+        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true), "max_seconds"_a.none(true));
   m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true));
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(

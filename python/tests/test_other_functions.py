@@ -73,3 +73,21 @@ def test_render_returns_an_rgb_image():
     assert error.shape == (90, 160, 3)
     framed = pnf.render(points, normals, width=64, height=64, frame=((-2, -2, -2), (2, 2, 2)))
     assert framed.shape == (64, 64, 3)
+
+
+def test_render_reads_float32_and_strided_arrays_as_their_values():
+    # The arrays are read in place, at their own type and strides: a float32 copy, and columns of
+    # a wider array, draw the same picture as packed doubles of the same values.
+    points, normals, truth = noisy_cube(20)
+    points32 = points.astype(np.float32)
+    normals32 = normals.astype(np.float32)
+    packed = pnf.render(points32.astype(np.float64), normals32.astype(np.float64), width=96, height=72,
+                        mode="error", reference_normals=truth, azimuth=30, elevation=20)
+    wide = np.zeros((len(points), 8), dtype=np.float32)
+    wide[:, 0:3] = points32
+    wide[:, 4:7] = normals32
+    strided = pnf.render(wide[:, 0:3], wide[:, 4:7], width=96, height=72, mode="error",
+                         reference_normals=truth, azimuth=30, elevation=20)
+    assert np.array_equal(strided, pnf.render(points32, normals32, width=96, height=72, mode="error",
+                                              reference_normals=truth, azimuth=30, elevation=20))
+    assert np.array_equal(strided, packed)

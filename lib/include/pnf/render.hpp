@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "pnf/bounding_box.hpp"
+#include "pnf/cloud_view.hpp"
 #include "pnf/point_cloud.hpp"
 
 namespace pnf {
@@ -96,7 +97,8 @@ struct RenderOptions {
   void validate() const;
 };
 
-// Renders `cloud` (N positions and N normals, optional N radii; normals need not be unit length)
+// Renders `cloud` (N positions and N normals, optional N radii, read in place: a PointCloud
+// converts to the view; normals need not be unit length)
 // as options.mode says; for RenderMode::error, `reference_normals` (N vectors, non-zero) are the
 // normals each point's is compared with, otherwise they are ignored and may be empty. Returns an
 // options.width x options.height image on a white background. An empty cloud gives the
@@ -106,9 +108,9 @@ struct RenderOptions {
 // invalid_input for a cloud without normals, mismatched sizes (naming both), a non-finite
 // coordinate or radius, a negative radius, or a zero or non-finite normal (naming the first bad
 // index).
-Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals, const RenderOptions& options);
+Image render_points(const CloudView& cloud, const Vec3ArrayView& reference_normals, const RenderOptions& options);
 
 // The same without reference normals, for the shaded and normals modes.
-Image render_points(const PointCloud& cloud, const RenderOptions& options = {});
+Image render_points(const CloudView& cloud, const RenderOptions& options = {});
 
 }  // namespace pnf

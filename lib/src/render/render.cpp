@@ -60,7 +60,6 @@ Vec3 normalized(const Vec3& v) {
   return {v[0] / l, v[1] / l, v[2] / l};
 }
 
-
 // World to pixels: x = cx + (p.right - u_mid) * scale, y = cy - (p.up - v_mid) * scale (rows go
 // down), depth = p.toward * scale (larger is nearer).
 struct Camera {
@@ -105,13 +104,13 @@ struct Splat {
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
 };
 
-void check_reference(const PointCloud& cloud, const std::vector<Vec3>& reference) {
-  if (reference.size() != cloud.size()) {
-    throw Error(ErrorCode::invalid_input, "the reference normals number " + std::to_string(reference.size()) +
+void check_reference(const CloudView& cloud, const Vec3ArrayView& reference) {
+  if (reference.count != cloud.size()) {
+    throw Error(ErrorCode::invalid_input, "the reference normals number " + std::to_string(reference.count) +
                                               " but the cloud has " + std::to_string(cloud.size()) + " points");
   }
-  for (std::size_t i = 0; i < reference.size(); ++i) {
-    const Vec3& n = reference[i];
+  for (std::size_t i = 0; i < reference.count; ++i) {
+    const Vec3 n = reference.at(i);
     if (!(std::isfinite(n[0]) && std::isfinite(n[1]) && std::isfinite(n[2]) && length(n) > 0)) {
       throw Error(ErrorCode::invalid_input, "reference normal " + std::to_string(i) + " is zero, NaN or infinite");
     }
@@ -132,7 +131,7 @@ render_detail::Rgb shade(const Vec3& normal_camera, const Vec3& light, const Vec
 
 }  // namespace
 
-Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_normals, const RenderOptions& options) {
+Image render_points(const CloudView& cloud, const Vec3ArrayView& reference_normals, const RenderOptions& options) {
   options.validate();
   if (options.mode == RenderMode::error && reference_normals.empty() && cloud.size() > 0) {
     throw Error(ErrorCode::invalid_argument,
@@ -158,7 +157,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
     }
   }
   auto radius_of = [&](std::size_t i) {
-    return options.radius_scale * (cloud.has_radii() ? cloud.radii[i] : base_radius);
+    return options.radius_scale * (cloud.has_radii() ? cloud.radii.get(i) : base_radius);
   };
 
   BoundingBox box;
@@ -183,7 +182,7 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
   const std::int64_t count = std::int64_t(n);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int64_t i = 0; i < count; ++i) {
-    const Vec3& p = cloud.positions[i];
+    const Vec3 p = cloud.positions.at(std::size_t(i));
     const Vec3 w = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]};
     Splat& s = splats[i];
     s.x = cam.cx + (dot(p, cam.right) - cam.u_mid) * cam.scale;
@@ -207,7 +206,8 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
         for (int k = 0; k < 3; ++k) colours[i][k] = (unsigned char)std::lround(255 * (w[k] * 0.5 + 0.5));
         break;
       case RenderMode::error:
-        colours[i] = render_detail::viridis(angle_degrees(w, reference_normals[i]) / options.error_max_degrees);
+        colours[i] =
+            render_detail::viridis(angle_degrees(w, reference_normals.at(std::size_t(i))) / options.error_max_degrees);
         break;
     }
   }
@@ -275,8 +275,8 @@ Image render_points(const PointCloud& cloud, const std::vector<Vec3>& reference_
   return image;
 }
 
-Image render_points(const PointCloud& cloud, const RenderOptions& options) {
-  return render_points(cloud, std::vector<Vec3>{}, options);
+Image render_points(const CloudView& cloud, const RenderOptions& options) {
+  return render_points(cloud, Vec3ArrayView{}, options);
 }
 
 }  // namespace pnf
