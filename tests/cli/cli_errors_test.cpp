@@ -319,8 +319,11 @@ TEST_F(CliErrorTest, UnknownFlagsAndCommands) {
 
 // A mistyped command is named, with the ones there are (as git does), not "a subcommand is required".
 TEST_F(CliErrorTest, MistypedCommandIsNamed) {
-  const CliRun r = run({"fliter", "in.ply", "out.ply"});
+  const std::string in = write_cloud("in.ply", jittered_grid(5, 1.0, 0.2, 1));
+  const std::set<std::string> before = folder_entries(work_);
+  const CliRun r = run({"fliter", in, path("out.ply")});
   EXPECT_EQ(r.exit_code, kExitUsage) << r.describe();
+  EXPECT_EQ(folder_entries(work_), before);
   EXPECT_NE(r.err.find("'fliter' is not a pnf command"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("filter, estimate, info"), std::string::npos) << r.err;
 }
