@@ -186,7 +186,7 @@ Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vect
     note(o.grid.back());
   }
   auto t = std::chrono::steady_clock::now();
-  o.choice = choose_filter_params(c.cloud);
+  o.choice = choose_filter_params(c.cloud, filter);
   o.estimate_seconds = seconds_since(t);
   t = std::chrono::steady_clock::now();
   FilterResult r = filter.run(c.cloud, o.choice.params);

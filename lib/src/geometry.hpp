@@ -1,5 +1,5 @@
 // The small vector geometry of pnf's C++ side (the library, the host code, the tools and the
-// benchmarks), written once: pi, dot, cross, length, and the angle between two directions.
+// benchmarks), written once: pi, dot, cross, length, unit vectors, and the angle between two directions.
 // The OpenCL kernels have their own (kernels/pnf_common.h), in the language they share with the
 // reference.
 #pragma once
@@ -20,6 +20,12 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 
 // Euclidean length.
 inline double norm(const Vec3& v) { return std::sqrt(dot(v, v)); }
+
+// v / |v|, for a non-zero v.
+inline Vec3 normalized(const Vec3& v) {
+  const double len = norm(v);
+  return {v[0] / len, v[1] / len, v[2] / len};
+}
 
 // The angle between two non-zero directions, in radians, 0 to pi. atan2(|a x b|, a . b) rather
 // than acos(a . b / |a| |b|): acos cannot resolve angles below about 1e-6 degrees (its slope is

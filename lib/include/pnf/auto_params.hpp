@@ -120,6 +120,9 @@ struct AutoChoice {
   FilterParams params;  // units radius, mean_radius = estimate.mean_radius (model units)
   DataEstimate estimate;
   std::string rule;  // e.g. "noise 0.48 spacings, normals 9.1 deg -> sigma_f 4, sigma_g 1.2, ..."
+  // Whether the rule's independent-errors line was replaced by cross-validation (the overload
+  // with a filter, below).
+  bool cross_validated = false;
 };
 
 // The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings
@@ -150,5 +153,18 @@ AutoChoice choose_filter_params(const DataEstimate& estimate);
 
 // estimate_data then the rule above.
 AutoChoice choose_filter_params(const CloudView& cloud);
+
+// estimate_data, the rule, and where the input normals' errors are independent of the positions
+// and of each other (normal_position_coupling and normal_error_correlation both under 0.35,
+// normal_noise_deg from 0.6, p up to 3, at least 2000 points), cross-validation instead of the
+// rule's line: an eighth of the points (at most 8000) is held out, `filter` runs on the rest at
+// every setting of the evaluation's grid (sigma_f 2 / 4 / 8, sigma_g 0.25 / 0.5 / 1 / 2 / off mean
+// radii, 1 / 2 / 4 / 8 passes; 15 runs of 7 passes on 7/8 of the cloud), and the setting whose
+// next step predicts the held-out input normals best is chosen (pnf's extension, docs/auto.md:
+// independent errors average out in such a prediction, so its error ranks the settings as
+// their true errors would). `progress` is told the share of settings tried
+// (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)). Without independent
+// errors the same as the overload above, and the filter is not used.
+AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress = {});
 
 }  // namespace pnf

@@ -15,6 +15,9 @@ enum class ProgressStage {
   lists,
   // estimate_normals' plane fits and orientation.
   estimate,
+  // --auto's cross-validation (choose_filter_params with a filter): fraction is the share of
+  // the settings tried.
+  cross_validation,
 };
 
 // What a progress callback is told. Reported after each pass (stage pass, fraction 1), and about
@@ -30,7 +33,7 @@ struct PassProgress {
   ProgressStage stage = ProgressStage::pass;
   double fraction = 1;  // share of this stage's work done, in [0, 1]; 1 for a finished pass
 };
-const char* to_string(ProgressStage stage);  // "pass", "lists", "estimate"
+const char* to_string(ProgressStage stage);  // "pass", "lists", "estimate", "cross-validation"
 using ProgressCallback = std::function<bool(const PassProgress&)>;
 
 }  // namespace pnf

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "cross_validate.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
 
@@ -240,5 +241,31 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
+
+AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {
+  AutoChoice choice = choose_filter_params(estimate_data(cloud));
+  const DataEstimate& e = choice.estimate;
+  const bool independent = e.normal_noise_deg >= kNoFilterNormalNoiseDeg &&
+                           e.normal_position_coupling < kIndependentErrorsBelow &&
+                           e.normal_error_correlation < kIndependentErrorsBelow;
+  if (!independent || e.position_noise_area_spacings() > kFeatureOffNoise ||
+      cloud.size() < detail::cross_validation_min_points()) {
+    return choice;
+  }
+  const detail::CrossValidation cv = detail::cross_validate(cloud, e.mean_radius, filter, progress);
+  choice.params = cv.params;
+  choice.params.stop_change_deg = kStopChangeDeg;
+  choice.cross_validated = true;
+  const FilterParams& p = choice.params;
+  const bool off = p.sigma_g >= kSigmaGOff;
+  choice.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
+                format("%.3g", e.normal_noise_deg) + " deg, normal errors independent of the positions (coupling " +
+                format("%.2f", e.normal_position_coupling) + ", correlation " +
+                format("%.2f", e.normal_error_correlation) + ") -> cross-validated on " + std::to_string(cv.held_out) +
+                " held-out points, " + std::to_string(cv.settings) + " settings: sigma_f " + format("%g", p.sigma_f) +
+                (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
+                std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
+  return choice;
+}
 
 }  // namespace pnf

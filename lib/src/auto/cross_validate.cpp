@@ -1,0 +1,229 @@
+// --auto's cross-validation (cross_validate.hpp).
+#include "cross_validate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "filter_factory.hpp"
+#include "geometry.hpp"
+#include "pnf/bounding_box.hpp"
+#include "pnf/error.hpp"
+#include "pnf_filter.h"
+#include "spatial/spatial_index.hpp"
+
+namespace pnf::detail {
+namespace {
+
+// An eighth of the points held out, at most 8000: the rest keeps 7/8 of the density or more (the
+// settings' lengths are in model units, so a sparser rest would favour wider ones), and 8000
+// points resolve the settings' differences well, as every setting is scored on the same points
+// and the input's own error, the bulk of each score, is the same for all.
+constexpr double kHeldOutShare = 0.125;
+constexpr std::size_t kMaxHeldOut = 8000;
+constexpr std::size_t kMinPoints = 2000;
+// The grid of pnf_eval_auto (bench/eval_auto.cpp), in mean radii; 1e6 is "off".
+constexpr double kSigmaF[] = {2, 4, 8};
+constexpr double kSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
+constexpr int kPasses[] = {1, 2, 4, 8};
+constexpr int kMaxPasses = 8;
+// The held-out points, drawn the same on every run of the same cloud.
+constexpr unsigned kSeed = 14;
+
+// The held-out points' neighbour lists (each point itself and the others, no other held-out
+// point), and the arrays pnf_filter.h reads: held-out points first (rows [0, held)), then the
+// others in their order.
+struct Predictor {
+  std::size_t held = 0;
+  std::vector<pnf_real4> positions, normals;  // centred; the others' normals change with the passes
+  std::vector<std::uint64_t> offsets;
+  std::vector<std::uint32_t> indices;
+};
+
+void build_lists(Predictor& p, const SpatialIndex& index, double reach) {
+  const std::vector<std::uint32_t> counts = index.count_within(reach, 0, p.held);
+  const CsrLists all = index.lists_within(reach, 0, p.held, counts);
+  p.offsets.assign(1, 0);
+  p.indices.clear();
+  for (std::size_t k = 0; k < p.held; ++k) {
+    for (std::uint64_t e = all.offsets[k]; e < all.offsets[k + 1]; ++e) {
+      if (all.indices[e] == k || all.indices[e] >= p.held) p.indices.push_back(all.indices[e]);
+    }
+    p.offsets.push_back(p.indices.size());
+  }
+}
+
+// The held-out points' normals through the passes, each point seeing only its own normal and
+// the others' (of the pass before), and the same from its input normal nudged along either
+// direction of its tangent plane, for the divergence in score().
+struct HeldOutPasses {
+  static constexpr double kNudge = 1e-5;  // radians; the reference is double
+  std::vector<pnf_real4> input;
+  std::vector<Vec3> tangent[2];     // a basis of each input normal's tangent plane
+  std::vector<pnf_real4> state[3];  // 0: from the input normal; 1, 2: from it nudged along tangent[0], [1]
+
+  explicit HeldOutPasses(const std::vector<pnf_real4>& held_input) : input(held_input) {
+    for (auto& t : tangent) t.resize(input.size());
+    for (auto& s : state) s.resize(input.size());
+    for (std::size_t k = 0; k < input.size(); ++k) {
+      const Vec3 own = {input[k].x, input[k].y, input[k].z};
+      const Vec3 helper = std::fabs(own[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+      tangent[0][k] = geometry::normalized(geometry::cross(own, helper));
+      tangent[1][k] = geometry::cross(own, tangent[0][k]);
+      state[0][k] = input[k];
+      for (int d = 0; d < 2; ++d) {
+        const Vec3& t = tangent[d][k];
+        const Vec3 m = geometry::normalized({own[0] + kNudge * t[0], own[1] + kNudge * t[1], own[2] + kNudge * t[2]});
+        state[1 + d][k] = pnf_real4{m[0], m[1], m[2], 0};
+      }
+    }
+  }
+
+  // One pass over the others' current normals (p.normals from row p.held).
+  void step(Predictor& p, const pnf_coeffs& c) {
+    const auto held = static_cast<std::int64_t>(p.held);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::int64_t k = 0; k < held; ++k) {
+      for (auto& s : state) {  // row k is in no list but its own: each thread sets its own rows
+        p.normals[k] = s[k];
+        int kept = 0;
+        const pnf_vec3 out = pnf_filter_point(pnf_index(k), p.indices.data(), p.offsets[k], p.offsets[k + 1],
+                                              p.positions.data(), p.normals.data(), c, &kept);
+        s[k] = pnf_real4{out.x, out.y, out.z, 0};
+      }
+    }
+  }
+
+  // The setting's score, lower is better: the mean squared distance of the held-out normals to
+  // their input normals, over 1 - the mean divergence of a normal over its own input (over the
+  // tangent plane; 2 for passes that keep the input, 0 for passes that ignore it).
+  // Why: with e a point's input error (independent, isotropic in the tangent plane, mean square
+  // s2) and out its normal after the passes, Stein's unbiased risk estimate gives the mean
+  // squared error as E|out - input|^2 - s2 (1 - div): the others' normals know nothing of e,
+  // so out depends on it only through the point's own normal. s2 is not known well enough to
+  // subtract (the input's error is many times the filtered one's); but every error is >= 0, so
+  // s2 <= E|out - input|^2 / (1 - div) for every setting, with near equality at the best one.
+  // The smallest such bound, which this score picks, is s2 + error / (1 - div): the best
+  // setting's error, weighed up slightly where a point keeps more of its own normal (div up to
+  // 0.4 on the evaluation's cases). The generalised cross-validation of smoothing splines has
+  // this shape. A setting with div >= 1 (most of each input kept) scores infinite.
+  double score(double* mean_divergence) const {
+    double distance2 = 0, divergence = 0;
+    for (std::size_t k = 0; k < input.size(); ++k) {
+      const pnf_real4& out = state[0][k];
+      const double x = out.x - input[k].x, y = out.y - input[k].y, z = out.z - input[k].z;
+      distance2 += x * x + y * y + z * z;
+      for (int d = 0; d < 2; ++d) {
+        const Vec3& t = tangent[d][k];
+        const pnf_real4& nudged = state[1 + d][k];
+        divergence += ((nudged.x - out.x) * t[0] + (nudged.y - out.y) * t[1] + (nudged.z - out.z) * t[2]) / kNudge;
+      }
+    }
+    distance2 /= double(input.size());
+    *mean_divergence = divergence / double(input.size());
+    return *mean_divergence < 1 ? distance2 / (1 - *mean_divergence) : HUGE_VAL;
+  }
+};
+
+}  // namespace
+
+std::size_t cross_validation_min_points() { return kMinPoints; }
+
+CrossValidation cross_validate(const CloudView& cloud, double mean_radius, NormalFilter& filter, const ProgressCallback& progress) {
+  const std::size_t n = cloud.size();
+  if (n < kMinPoints || cloud.normals.count != n) {
+    throw Error(ErrorCode::invalid_argument, "cross-validation needs " + std::to_string(kMinPoints) +
+                                                 " points or more, with normals; got " + std::to_string(n));
+  }
+  if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
+    throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
+  }
+  std::vector<std::uint32_t> ids(n);
+  std::iota(ids.begin(), ids.end(), 0u);
+  std::mt19937 rng(kSeed);
+  std::shuffle(ids.begin(), ids.end(), rng);
+  Predictor p;
+  p.held = std::min(std::size_t(double(n) * kHeldOutShare), kMaxHeldOut);
+  std::sort(ids.begin(), ids.begin() + std::ptrdiff_t(p.held));
+  std::sort(ids.begin() + std::ptrdiff_t(p.held), ids.end());
+
+  const Vec3 centre = bounding_box(cloud.positions).centre();
+  std::vector<double> centred(3 * n);
+  std::vector<Vec3> rest_positions, rest_normals, rest_out(n - p.held);
+  p.positions.resize(n);
+  p.normals.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 x = cloud.positions.at(ids[k]), v = cloud.normals.at(ids[k]);
+    const double len = geometry::norm(v);
+    for (int c = 0; c < 3; ++c) centred[3 * k + c] = x[c] - centre[c];
+    p.positions[k] = pnf_real4{centred[3 * k], centred[3 * k + 1], centred[3 * k + 2], 0};
+    p.normals[k] = pnf_real4{v[0] / len, v[1] / len, v[2] / len, 0};
+    if (k >= p.held) {
+      rest_positions.push_back(x);
+      rest_normals.push_back(v);
+    }
+  }
+  const std::vector<pnf_real4> held_input(p.normals.begin(), p.normals.begin() + std::ptrdiff_t(p.held));
+  const std::vector<pnf_real4> rest_input(p.normals.begin() + std::ptrdiff_t(p.held), p.normals.end());
+  const SpatialIndex index(std::move(centred), SpatialIndex::Layout::any_order);
+  const CloudView rest(rest_positions, rest_normals);
+
+  CrossValidation best;
+  best.held_out = p.held;
+  best.score = HUGE_VAL;
+  const std::size_t settings = std::size(kSigmaF) * std::size(kSigmaG);
+  std::size_t done = 0;
+  for (const double sigma_f : kSigmaF) {
+    build_lists(p, index, PNF_SUPPORT_IN_SIGMA_F * sigma_f * mean_radius);
+    for (const double sigma_g : kSigmaG) {
+      FilterParams params;
+      params.sigma_f = sigma_f;
+      params.sigma_g = sigma_g;
+      params.units = Units::radius;
+      params.mean_radius = mean_radius;
+      params.stop_change_deg = 0;
+      const pnf_coeffs c = pnf_make_coeffs(sigma_f * mean_radius, sigma_g * mean_radius);
+      // Pass P at a held-out point: one step over the others' normals after P - 1 passes.
+      HeldOutPasses passes(held_input);
+      std::copy(rest_input.begin(), rest_input.end(), p.normals.begin() + std::ptrdiff_t(p.held));
+      auto step = [&](int pass) {
+        passes.step(p, c);
+        if (std::find(std::begin(kPasses), std::end(kPasses), pass) == std::end(kPasses)) return;
+        double divergence = 0;
+        const double score = passes.score(&divergence);
+        ++best.settings;
+        if (score < best.score) {
+          best.score = score;
+          best.divergence = divergence;
+          best.params = params;
+          best.params.iterations = pass;
+        }
+      };
+      step(1);
+      params.iterations = kMaxPasses - 1;
+      const double fraction = double(done) / double(settings);
+      auto still_wanted = [&](const PassProgress&) {
+        return !progress || progress(PassProgress{0, 0, 0, ProgressStage::cross_validation, fraction});
+      };
+      FilterFactory::run_observed(filter, rest, MutableVec3ArrayView(rest_out), params,
+                                  [&](int pass, const std::vector<double>& normals) {
+                                    for (std::size_t k = 0; k + p.held < n; ++k) {
+                                      p.normals[p.held + k] =
+                                          pnf_real4{normals[3 * k], normals[3 * k + 1], normals[3 * k + 2], 0};
+                                    }
+                                    step(pass + 1);
+                                  },
+                                  still_wanted);
+      ++done;
+      if (progress && !progress(PassProgress{0, 0, 0, ProgressStage::cross_validation, double(done) / double(settings)})) {
+        throw Error(ErrorCode::cancelled, "cross-validation cancelled");
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace pnf::detail
