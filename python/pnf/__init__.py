@@ -107,8 +107,14 @@ def improve_normals(
     )
 
 
-def choose_params(points: ArrayLike, normals: Optional[ArrayLike] = None) -> AutoChoice:
+def choose_params(
+    points: ArrayLike, normals: Optional[ArrayLike] = None, device: Optional[str] = None, backend: str = "opencl"
+) -> AutoChoice:
     """What ``pnf filter --auto`` would pick for this cloud, and what it measured.
+
+    Where the normals' errors look independent of the positions and of each other (as a
+    scanner's or a mesh's), the choice is cross-validated by filtering the cloud at 60 settings
+    on `device` / `backend` (as in improve_normals); choice.cross_validated says so.
 
     Needs N >= 16 points. Returns an AutoChoice: sigma_f, sigma_g, iterations, stop_change_deg,
     units, mean_radius (pnf's one mean radius, as `pnf info` reports it), rule (one line of text),
@@ -116,7 +122,7 @@ def choose_params(points: ArrayLike, normals: Optional[ArrayLike] = None) -> Aut
     feature_share, curved_share, ...), and kwargs, a
     dict to pass on: ``pnf.improve_normals(p, n, **choice.kwargs)`` equals ``auto=True``.
     """
-    return _pnf.choose_params(points, normals)
+    return _pnf.choose_params(points, normals, device, backend)
 
 
 def estimate_normals(

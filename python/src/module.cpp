@@ -148,18 +148,19 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   const ProgressCallback callback = python_progress(progress, pending);
   run_released(pending, [&] {
     FilterParams run_params = params;
+    NormalFilter filter(options);
     if (automatic) {
-      run_params = choose_filter_params(view).params;
+      run_params = choose_filter_params(view, filter, callback).params;
     }
     if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
     // Reads the caller's arrays in place and writes straight into the result array.
-    NormalFilter filter(options);
     filter.run(view, out.view, run_params, callback);
   });
   return out.array;
 }
 
-AutoChoice choose_params(py::handle points, py::handle normals) {
+AutoChoice choose_params(py::handle points, py::handle normals, const std::optional<std::string>& device,
+                         const std::string& backend) {
   Vec3Input p(points, "points");
   std::optional<Vec3Input> n;
   if (!normals.is_none()) {
@@ -167,8 +168,13 @@ AutoChoice choose_params(py::handle points, py::handle normals) {
     check_same_size("normals", n->size(), "points", p.size());
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
+  const FilterOptions options = filter_options(device, backend);
   py::gil_scoped_release nogil;
-  return choose_filter_params(view);
+  // The filter is only built (and the device opened) where cross-validation needs it.
+  const AutoChoice rule = choose_filter_params(view);
+  if (!needs_cross_validation(rule)) return rule;
+  NormalFilter filter(options);
+  return cross_validate_choice(view, rule, filter);
 }
 
 py::object estimate(py::handle points, int k, const std::string& orient, const std::array<double, 3>& viewpoint) {
@@ -283,6 +289,7 @@ void bind_results(py::module_& m) {
       .def_property_readonly("mean_radius", [](const AutoChoice& c) { return c.params.mean_radius; })
       .def_readonly("estimate", &AutoChoice::estimate)
       .def_readonly("rule", &AutoChoice::rule)
+      .def_readonly("cross_validated", &AutoChoice::cross_validated)
       .def_property_readonly("kwargs",
                              [](const AutoChoice& c) {
                                const FilterParams& f = c.params;
@@ -329,7 +336,7 @@ PYBIND11_MODULE(_pnf, m) {
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
         "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true), "max_seconds"_a.none(true));
-  m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true));
+  m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true), "device"_a.none(true), "backend"_a);
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(
       "devices",

@@ -1,8 +1,10 @@
 # Tests of pnf::estimate_data, pnf::choose_filter_params and `pnf filter --auto` / --stop-change:
 # included into the single test executable (the CLI cases skip when PNF_CLI_PATH is empty).
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
-# crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself.
+# crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
+# cross_validation_test: --auto's cross-validation for normals with independent errors.
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
-  ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp)
+  ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/cross_validation_test.cpp)

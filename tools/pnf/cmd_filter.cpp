@@ -67,8 +67,9 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
 void print_auto(const AutoChoice& choice, double seconds) {
   const DataEstimate& e = choice.estimate;
   std::fprintf(stderr,
-               "pnf filter --auto: estimated from %zu of %zu points in %.2f s (fits of %d neighbours, radius %.4g)\n",
-               e.samples, e.points, seconds, e.fit_neighbours, e.fit_radius);
+               "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose in "
+               "%.2f s\n",
+               e.samples, e.points, e.fit_neighbours, e.fit_radius, seconds);
   std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
                to_string(e.radius_source), e.area_spacing);
   std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
@@ -118,20 +119,21 @@ int run_filter(const FilterFlags& flags) {
     }
     stage = Stage::running;
     const PointCloud cloud = file.cloud();
-    if (flags.automatic) {
-      const auto t_auto = std::chrono::steady_clock::now();
-      const AutoChoice choice = choose_filter_params(cloud);
-      params = choice.params;
-      // An explicit --stop-change (0 included: off) wins over the rule's.
-      if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
-      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
-    }
     FilterOptions options = flags.device.options();
     options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
     options.memory.max_neighbour_pairs = flags.max_pairs;
     options.max_seconds = flags.max_seconds;
     options.validate();
     NormalFilter filter(options);
+    if (flags.automatic) {
+      const auto t_auto = std::chrono::steady_clock::now();
+      // With the filter: input normals with independent errors are cross-validated on it.
+      const AutoChoice choice = choose_filter_params(cloud, filter, progress_bar(flags.quiet));
+      params = choice.params;
+      // An explicit --stop-change (0 included: off) wins over the rule's.
+      if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
+      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
+    }
     FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();

@@ -200,6 +200,15 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
       if (rank == 0 && !run.quiet) {
         std::fprintf(stderr, "pnf filter --auto: estimated on every rank's slice, %zu samples in %.2f s\n  chose %s\n",
                      choice.estimate.samples, seconds_since(t_auto), choice.rule.c_str());
+        // Cross-validation filters the whole cloud 15 times in one process; a distributed run
+        // keeps the rule's line for such normals, and says how to get the single-process choice.
+        if (needs_cross_validation(choice)) {
+          std::fprintf(stderr,
+                       "  note             these normals' errors look independent of the positions: a single-process "
+                       "`pnf filter --auto` would cross-validate the setting (docs/auto.md); this distributed run "
+                       "uses the rule's line. For the same choice, run `pnf filter --auto` once without mpirun and "
+                       "pass the sigmas it prints\n");
+        }
       }
     }
     std::vector<Vec3> normals(local.size());

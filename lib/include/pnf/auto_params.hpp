@@ -154,17 +154,28 @@ AutoChoice choose_filter_params(const DataEstimate& estimate);
 // estimate_data then the rule above.
 AutoChoice choose_filter_params(const CloudView& cloud);
 
-// estimate_data, the rule, and where the input normals' errors are independent of the positions
-// and of each other (normal_position_coupling and normal_error_correlation both under 0.35,
-// normal_noise_deg from 0.6, p up to 3, at least 2000 points), cross-validation instead of the
-// rule's line: an eighth of the points (at most 8000) is held out, `filter` runs on the rest at
-// every setting of the evaluation's grid (sigma_f 2 / 4 / 8, sigma_g 0.25 / 0.5 / 1 / 2 / off mean
-// radii, 1 / 2 / 4 / 8 passes; 15 runs of 7 passes on 7/8 of the cloud), and the setting whose
-// next step predicts the held-out input normals best is chosen (pnf's extension, docs/auto.md:
-// independent errors average out in such a prediction, so its error ranks the settings as
-// their true errors would). `progress` is told the share of settings tried
-// (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)). Without independent
-// errors the same as the overload above, and the filter is not used.
+// Whether the choice's estimate shows input normals whose errors are independent of the
+// positions and of each other (normal_position_coupling and normal_error_correlation both under
+// 0.35, normal_noise_deg from 0.6, p up to 3), in a cloud of 2000 points or more: then
+// cross_validate_choice below replaces the rule's line, which such normals defeat (docs/auto.md).
+bool needs_cross_validation(const AutoChoice& choice);
+
+// pnf's extension to the paper (docs/auto.md): the filter setting for `cloud` by
+// cross-validation instead of the rule. An eighth of the points (at most 8000) is held out;
+// `filter` runs on the rest at every setting of the evaluation's grid (sigma_f 2 / 4 / 8, sigma_g
+// 0.25 / 0.5 / 1 / 2 / off mean radii, 1 / 2 / 4 / 8 passes: 15 runs of 7 passes on 7/8 of the
+// cloud), the held-out points follow the same passes without ever being anyone's neighbour, and
+// the setting whose held-out normals end closest to their own input normals, against how much
+// of that input they keep, is chosen: with independent errors that ranks the settings as their
+// true errors would. Returns `choice` with those params (units radius, its mean radius, its stop
+// rule), cross_validated set and the rule text saying so. `progress` is told the share of
+// settings tried (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)).
+// Throws pnf::Error(invalid_argument) for a cloud of fewer than 2000 points or without normals.
+AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
+                                 const ProgressCallback& progress = {});
+
+// What `pnf filter --auto` uses: estimate_data, the rule, and cross_validate_choice where
+// needs_cross_validation says so (the filter is used only then).
 AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress = {});
 
 }  // namespace pnf

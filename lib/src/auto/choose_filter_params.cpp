@@ -242,30 +242,36 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
-AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {
-  AutoChoice choice = choose_filter_params(estimate_data(cloud));
+bool needs_cross_validation(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;
-  const bool independent = e.normal_noise_deg >= kNoFilterNormalNoiseDeg &&
-                           e.normal_position_coupling < kIndependentErrorsBelow &&
-                           e.normal_error_correlation < kIndependentErrorsBelow;
-  if (!independent || e.position_noise_area_spacings() > kFeatureOffNoise ||
-      cloud.size() < detail::cross_validation_min_points()) {
-    return choice;
-  }
+  return e.normal_noise_deg >= kNoFilterNormalNoiseDeg && e.normal_position_coupling < kIndependentErrorsBelow &&
+         e.normal_error_correlation < kIndependentErrorsBelow && e.position_noise_area_spacings() <= kFeatureOffNoise &&
+         e.points >= detail::cross_validation_min_points();
+}
+
+AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
+                                 const ProgressCallback& progress) {
+  const DataEstimate& e = choice.estimate;
   const detail::CrossValidation cv = detail::cross_validate(cloud, e.mean_radius, filter, progress);
-  choice.params = cv.params;
-  choice.params.stop_change_deg = kStopChangeDeg;
-  choice.cross_validated = true;
-  const FilterParams& p = choice.params;
+  AutoChoice out = choice;
+  out.params = cv.params;
+  out.params.stop_change_deg = choice.params.stop_change_deg;
+  out.cross_validated = true;
+  const FilterParams& p = out.params;
   const bool off = p.sigma_g >= kSigmaGOff;
-  choice.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
-                format("%.3g", e.normal_noise_deg) + " deg, normal errors independent of the positions (coupling " +
-                format("%.2f", e.normal_position_coupling) + ", correlation " +
-                format("%.2f", e.normal_error_correlation) + ") -> cross-validated on " + std::to_string(cv.held_out) +
-                " held-out points, " + std::to_string(cv.settings) + " settings: sigma_f " + format("%g", p.sigma_f) +
-                (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
-                std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
-  return choice;
+  out.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
+             format("%.3g", e.normal_noise_deg) + " deg, normal errors independent of the positions (coupling " +
+             format("%.2f", e.normal_position_coupling) + ", correlation " + format("%.2f", e.normal_error_correlation) +
+             ") -> cross-validated (" + std::to_string(cv.settings) + " settings, " + std::to_string(cv.held_out) +
+             " points held out): sigma_f " + format("%g", p.sigma_f) +
+             (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
+             std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
+  return out;
+}
+
+AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {
+  const AutoChoice choice = choose_filter_params(estimate_data(cloud));
+  return needs_cross_validation(choice) ? cross_validate_choice(cloud, choice, filter, progress) : choice;
 }
 
 }  // namespace pnf
