@@ -41,7 +41,8 @@ double best_of_grid(const Crease& c, double mean_radius) {
       params.mean_radius = mean_radius;
       for (int pass = 1; pass <= 8; ++pass) {
         step.normals = fastest_filter().run(step, params).normals;
-        if (pass == 1 || pass == 2 || pass == 4 || pass == 8) best = std::min(best, rms_line_angle(step.normals, c.truth));
+        if (pass == 1 || pass == 2 || pass == 4 || pass == 8)
+          best = std::min(best, rms_line_angle(step.normals, c.truth));
       }
     }
   }

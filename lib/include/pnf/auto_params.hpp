@@ -161,7 +161,7 @@ AutoChoice choose_filter_params(const CloudView& cloud);
 bool needs_cross_validation(const AutoChoice& choice);
 
 // pnf's extension to the paper (docs/auto.md): the filter setting for `cloud` by
-// cross-validation instead of the rule. An eighth of the points (at most 8000) is held out;
+// cross-validation instead of the rule. An eighth of the points (at most 50000) is held out;
 // `filter` runs on the rest at every setting of the evaluation's grid (sigma_f 2 / 4 / 8, sigma_g
 // 0.25 / 0.5 / 1 / 2 / off mean radii, 1 / 2 / 4 / 8 passes: 15 runs of 7 passes on 7/8 of the
 // cloud), the held-out points follow the same passes without ever being anyone's neighbour, and

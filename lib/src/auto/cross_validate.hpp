@@ -21,7 +21,7 @@ struct CrossValidation {
   std::size_t held_out = 0, settings = 0;
 };
 
-// A share of the points (an eighth, at most 8000) is held out; the filter runs on the others
+// An eighth of the points (at most 50000) is held out; the filter runs on the others
 // at every setting of the grid below, and the held-out points follow the same passes, each seeing
 // its own normal and the others' but never another held-out one. Where the input normals' errors
 // are independent of each other, how far the held-out points' normals end from their own input
