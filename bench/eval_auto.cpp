@@ -22,6 +22,10 @@
 // averaging (the paper's sigma_f and passes, the feature term off), and above --full-grid-points
 // against a coarse grid. --estimate-only prints the estimates and choices without filtering.
 //
+// "auto" is what `pnf filter --auto` runs: choose_filter_params(cloud, filter), the rule, and for
+// input normals with independent errors its cross-validation on the same filter (docs/auto.md);
+// the JSON says which (cross_validated) and how long the choice took (choose_seconds).
+//
 // Prints a table and a summary against the targets (never worse than the input, within 10% of the
 // grid's best), and with --json a file for bench/plot_auto.py and --grid-from.
 #include <CLI/CLI.hpp>
@@ -79,7 +83,8 @@ struct Outcome {
   std::vector<Setting> grid;
   AutoChoice choice;
   int auto_passes = 0;
-  double mean_radius = 0, auto_seconds = 0, estimate_seconds = 0;
+  double mean_radius = 0, auto_seconds = 0;
+  double estimate_seconds = 0;  // the estimate and the rule, and the cross-validation where it ran
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -510,7 +515,10 @@ int main(int argc, char** argv) {
           << ", \"curved_share\": " << e.curved_share << ", \"crease_length\": " << e.crease_length
           << ", \"normal_error_correlation\": " << e.normal_error_correlation
           << ", \"normal_position_coupling\": " << e.normal_position_coupling
-          << ", \"crease_sharpness\": " << e.crease_sharpness << ", \"rule\": \""
+          << ", \"crease_sharpness\": " << e.crease_sharpness
+          << ", \"cross_validated\": " << (o.choice.cross_validated ? "true" : "false")
+          << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
+          << ", \"rule\": \""
           << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];

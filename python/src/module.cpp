@@ -169,12 +169,19 @@ AutoChoice choose_params(py::handle points, py::handle normals, const std::optio
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
   const FilterOptions options = filter_options(device, backend);
-  py::gil_scoped_release nogil;
-  // The filter is only built (and the device opened) where cross-validation needs it.
-  const AutoChoice rule = choose_filter_params(view);
-  if (!needs_cross_validation(rule)) return rule;
-  NormalFilter filter(options);
-  return cross_validate_choice(view, rule, filter);
+  // No callback to call, but Ctrl-C still stops a cross-validation within a pass.
+  const py::object no_callback = py::none();
+  std::exception_ptr pending;
+  const ProgressCallback callback = python_progress(no_callback, pending);
+  AutoChoice choice;
+  run_released(pending, [&] {
+    choice = choose_filter_params(view);
+    // The filter is only built (and the device opened) where cross-validation needs it.
+    if (!needs_cross_validation(choice)) return;
+    NormalFilter filter(options);
+    choice = cross_validate_choice(view, choice, filter, callback);
+  });
+  return choice;
 }
 
 py::object estimate(py::handle points, int k, const std::string& orient, const std::array<double, 3>& viewpoint) {

@@ -237,3 +237,20 @@ def test_a_run_past_max_seconds_is_refused_with_the_numbers():
         pnf.improve_normals(points, normals, iterations=100000, backend="reference", max_seconds=1)
     with pytest.raises(ValueError, match="max_seconds"):
         pnf.improve_normals(points, normals, backend="reference", max_seconds=-1)
+
+
+def test_auto_cross_validates_independent_normal_errors_as_choose_params_does():
+    from conftest import angles_deg, noisy_cube
+
+    # Tilted true normals: errors independent of the positions, as a scanner's. 3456 points, so
+    # the cross-validation has enough to hold an eighth out.
+    points, normals, truth = noisy_cube(24)
+    choice = pnf.choose_params(points, normals, backend="reference")
+    assert choice.cross_validated, choice.rule
+    assert "cross-validated" in choice.rule
+    a = pnf.improve_normals(points, normals, auto=True, backend="reference")
+    b = pnf.improve_normals(points, normals, backend="reference", **choice.kwargs)
+    np.testing.assert_array_equal(a, b)
+    before = np.sqrt(np.mean(np.minimum(angles_deg(normals, truth), 180 - angles_deg(normals, truth)) ** 2))
+    after = np.sqrt(np.mean(np.minimum(angles_deg(a, truth), 180 - angles_deg(a, truth)) ** 2))
+    assert after < 0.5 * before, (before, after, choice.rule)

@@ -82,9 +82,10 @@ TEST(CrossValidation, ScoreOnAPlaneIsTheInputsError) {
   input_mse /= double(c.truth.size());
   const detail::CrossValidation cv = detail::cross_validate(c.cloud, std::sqrt(2.0 / 12000) / 1.2, fastest_filter());
   EXPECT_EQ(cv.settings, 60u);
-  EXPECT_EQ(cv.held_out, 1500u);
-  // The held-out points' own input errors: 1500 samples of a mean square (sd about 1/sqrt(1500)
-  // of it, 2.6%), so 10% either way.
+  EXPECT_EQ(cv.folds, 4u) << "12000 points: an eighth is 1500, four folds to score 6000";
+  EXPECT_EQ(cv.held_out, 6000u);
+  // The held-out points' own input errors: 6000 samples of a mean square (sd about 1/sqrt(6000)
+  // of it, 1.3%), so 10% either way.
   EXPECT_GT(cv.score, 0.9 * input_mse) << "score " << cv.score << ", input " << input_mse;
   EXPECT_LT(cv.score, 1.1 * input_mse) << "score " << cv.score << ", input " << input_mse;
   EXPECT_GE(cv.divergence, 0);
