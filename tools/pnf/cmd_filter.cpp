@@ -64,7 +64,8 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
 }
 
-void print_auto(const AutoChoice& choice, double seconds) {
+// `rule` is the rule's choice; `choice` is what was used (the same, or its cross-validated setting).
+void print_auto(const AutoChoice& rule, const AutoChoice& choice, double seconds) {
   const DataEstimate& e = choice.estimate;
   std::fprintf(stderr,
                "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose in "
@@ -84,6 +85,8 @@ void print_auto(const AutoChoice& choice, double seconds) {
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "
                "%.0f%% of the smooth ones curved\n",
                e.crease_length, 100 * e.feature_share, e.crease_sharpness, 100 * e.curved_share);
+  // The rule's line stays visible: it is what a distributed run (which does not cross-validate) uses.
+  if (choice.cross_validated) std::fprintf(stderr, "  rule would take  %s\n", rule.rule.c_str());
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
 }
 
@@ -127,12 +130,14 @@ int run_filter(const FilterFlags& flags) {
     NormalFilter filter(options);
     if (flags.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
-      // With the filter: input normals with independent errors are cross-validated on it.
-      const AutoChoice choice = choose_filter_params(cloud, filter, progress_bar(flags.quiet));
+      // Input normals with independent errors are cross-validated on the filter.
+      const AutoChoice rule = choose_filter_params(cloud);
+      const AutoChoice choice =
+          needs_cross_validation(rule) ? cross_validate_choice(cloud, rule, filter, progress_bar(flags.quiet)) : rule;
       params = choice.params;
       // An explicit --stop-change (0 included: off) wins over the rule's.
       if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
-      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
+      if (!flags.quiet) print_auto(rule, choice, seconds_since(t_auto));
     }
     FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;
