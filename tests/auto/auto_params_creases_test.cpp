@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "crease_clouds.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/normal_filter.hpp"
-#include "crease_clouds.hpp"
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
 

@@ -63,10 +63,10 @@ ProgressCallback progress_bar(bool quiet) {
     }
     std::fprintf(stderr, "\r  %-14s [%s%s] %.2f s ", label, std::string(filled, '#').c_str(),
                  std::string(kWidth - filled, ' ').c_str(), p.seconds);
-    const bool last = p.stage == ProgressStage::pass ? p.pass == p.passes
-                                                     : (p.stage == ProgressStage::estimate ||
-                                                        p.stage == ProgressStage::cross_validation) &&
-                                                           done >= 1;
+    const bool last =
+        p.stage == ProgressStage::pass
+            ? p.pass == p.passes
+            : (p.stage == ProgressStage::estimate || p.stage == ProgressStage::cross_validation) && done >= 1;
     if (last || interrupted) {
       std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
     }

@@ -164,9 +164,9 @@ Command add_filter_command(CLI::App& parent) {
   CLI::Option* sigma_g =
       app->add_option("--sigma-g", flags->params.sigma_g, "feature width: distance to a neighbour's plane")
           ->capture_default_str();
-  CLI::Option* iterations =
-      app->add_option("--iterations", flags->params.iterations, "number of passes, or the most passes with --stop-change")
-          ->capture_default_str();
+  CLI::Option* iterations = app->add_option("--iterations", flags->params.iterations,
+                                            "number of passes, or the most passes with --stop-change")
+                                ->capture_default_str();
   CLI::Option* units =
       app->add_option("--units", flags->units, "radius: sigmas in mean surfel radii; absolute: model units")
           ->check(CLI::IsMember({"radius", "absolute"}))
@@ -182,7 +182,8 @@ Command add_filter_command(CLI::App& parent) {
                   "end the passes once the mean change of the normals falls below DEG degrees (default: off; "
                   "--auto sets 0.01; 0 turns it off)")
       ->check(CLI::NonNegativeNumber);
-  app->add_option("--memory-budget", flags->memory_mib, "MiB of neighbour lists kept at once; larger clouds run in chunks")
+  app->add_option("--memory-budget", flags->memory_mib,
+                  "MiB of neighbour lists kept at once; larger clouds run in chunks")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app->add_option("--max-pairs", flags->max_pairs,

@@ -77,12 +77,23 @@ AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
   }
   // Every field as a double (all of them are exact in one: counts stay far below 2^53).
   constexpr int kFields = 17;
-  const double mine[kFields] = {double(e.points),       double(e.samples),         e.mean_radius,
-                                double(int(e.radius_source)), e.area_spacing,     e.position_noise,
-                                e.normal_noise_deg,     double(e.fit_neighbours),  e.fit_radius,
-                                e.feature_share,        e.crease_length,           double(e.edge_samples),
-                                double(e.feature_samples), e.curved_share,         e.normal_error_correlation,
-                                e.normal_position_coupling, e.crease_sharpness};
+  const double mine[kFields] = {double(e.points),
+                                double(e.samples),
+                                e.mean_radius,
+                                double(int(e.radius_source)),
+                                e.area_spacing,
+                                e.position_noise,
+                                e.normal_noise_deg,
+                                double(e.fit_neighbours),
+                                e.fit_radius,
+                                e.feature_share,
+                                e.crease_length,
+                                double(e.edge_samples),
+                                double(e.feature_samples),
+                                e.curved_share,
+                                e.normal_error_correlation,
+                                e.normal_position_coupling,
+                                e.crease_sharpness};
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   std::vector<double> all(std::size_t(ranks) * kFields);

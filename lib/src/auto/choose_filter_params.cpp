@@ -151,8 +151,8 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
                                                  format("%g", estimate.area_spacing));
   }
   if (!(estimate.mean_radius > 0) || !std::isfinite(estimate.mean_radius)) {
-    throw Error(ErrorCode::invalid_argument, "choose_filter_params: mean_radius must be > 0 and finite, got " +
-                                                 format("%g", estimate.mean_radius));
+    throw Error(ErrorCode::invalid_argument,
+                "choose_filter_params: mean_radius must be > 0 and finite, got " + format("%g", estimate.mean_radius));
   }
   const double noise = estimate.position_noise_area_spacings();
   AutoChoice choice;
@@ -261,10 +261,10 @@ AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choic
   const bool off = p.sigma_g >= kSigmaGOff;
   out.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
              format("%.3g", e.normal_noise_deg) + " deg, normal errors independent of the positions (coupling " +
-             format("%.2f", e.normal_position_coupling) + ", correlation " + format("%.2f", e.normal_error_correlation) +
-             ") -> cross-validated (" + std::to_string(cv.settings) + " settings, " + std::to_string(cv.folds) +
-             (cv.folds == 1 ? " fold of " : " folds of ") + std::to_string(cv.held_out / cv.folds) +
-             " held-out points): sigma_f " + format("%g", p.sigma_f) +
+             format("%.2f", e.normal_position_coupling) + ", correlation " +
+             format("%.2f", e.normal_error_correlation) + ") -> cross-validated (" + std::to_string(cv.settings) +
+             " settings, " + std::to_string(cv.folds) + (cv.folds == 1 ? " fold of " : " folds of ") +
+             std::to_string(cv.held_out / cv.folds) + " held-out points): sigma_f " + format("%g", p.sigma_f) +
              (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
              std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
   return out;

@@ -17,7 +17,7 @@ struct CrossValidation {
   // Its score (HeldOutPasses::score in the source): about the input normals' mean squared error
   // (sin^2 of the angle) plus the chosen setting's, so an upper estimate of the input's.
   double score = 0;
-  double divergence = 0;  // how much of its own input normal a held-out point keeps (0 to 2)
+  double divergence = 0;     // how much of its own input normal a held-out point keeps (0 to 2)
   std::size_t held_out = 0;  // points scored, over all folds
   std::size_t folds = 0;     // disjoint held-out sets, each an eighth of the cloud
   std::size_t settings = 0;
