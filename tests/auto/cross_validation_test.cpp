@@ -131,5 +131,30 @@ TEST(CrossValidation, SmallCloudsAreLeftToTheRuleAndCancellingStops) {
   EXPECT_EQ(calls, 3);
 }
 
+// The gate on the estimate alone: errors alike over spacings on clean positions are the rule's
+// already-smoothed normals (the clean torus with PCA-64 normals read correlation 0.34, coupling
+// 0.07) and keep its line; the same correlation on noisy positions, or a low one on clean
+// positions, is cross-validated.
+TEST(CrossValidation, AlreadySmoothedNormalsOnCleanPositionsKeepTheRule) {
+  DataEstimate e;
+  e.points = 20000;
+  e.samples = 4000;
+  e.mean_radius = 1;
+  e.area_spacing = 1;
+  e.normal_noise_deg = 1.0;
+  e.normal_position_coupling = 0.07;
+  e.curved_share = 1;
+  const auto needs = [&](double noise_spacings, double correlation) {
+    e.position_noise = noise_spacings * e.area_spacing;
+    e.normal_error_correlation = correlation;
+    return needs_cross_validation(choose_filter_params(e));
+  };
+  EXPECT_FALSE(needs(0.0, 0.34));
+  EXPECT_FALSE(needs(0.04, 0.2));
+  EXPECT_TRUE(needs(0.0, 0.19));
+  EXPECT_TRUE(needs(0.05, 0.34));
+  EXPECT_FALSE(needs(0.25, 0.35)) << "correlated as PCA over many neighbours";
+}
+
 }  // namespace
 }  // namespace pnf::test
