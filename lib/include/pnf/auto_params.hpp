@@ -157,7 +157,7 @@ AutoChoice choose_filter_params(const CloudView& cloud);
 // Whether the choice's estimate shows input normals whose errors are independent of the
 // positions and of each other (normal_position_coupling and normal_error_correlation both under
 // 0.35, normal_noise_deg from 0.6, p up to 3; on clean positions, p < 0.05, the correlation
-// under 0.2, where the rule reads already-smoothed normals), in 2000 points or more: then
+// under 0.1), in 2000 points or more: then
 // cross_validate_choice below replaces the rule's line, which such normals defeat (docs/auto.md).
 bool needs_cross_validation(const AutoChoice& choice);
 
