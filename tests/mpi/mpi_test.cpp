@@ -1,7 +1,7 @@
-// pnf::mpi::improve_normals against one process: run under `mpirun -np P` (P = 1 .. 4), every
-// rank runs every test. Rank 0 computes the one-process answer on the whole cloud and
-// broadcasts it; each rank passes a slice of the cloud (even, uneven, empty, all on one rank)
-// and checks its normals against the matching rows.
+// pnf::mpi::improve_normals and choose_filter_params against one process: run under
+// `mpirun -np P` (P = 1 .. 4), every rank runs every test. Rank 0 computes the one-process answer
+// on the whole cloud and broadcasts it; each rank passes a slice of the cloud (even, uneven,
+// empty, all on one rank) and checks its normals against the matching rows.
 #include "pnf/mpi.hpp"
 
 #include <gtest/gtest.h>
@@ -11,7 +11,12 @@
 #include <cmath>
 #include <functional>
 
+#include "agreement.hpp"
+#include "auto/crease_clouds.hpp"
+#include "cross_validate_mpi.hpp"
+#include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
+#include "pnf/mean_radius.hpp"
 #include "pnf/synthetic_shapes.hpp"
 #include "test_clouds.hpp"
 
@@ -252,6 +257,72 @@ TEST(MpiFilter, DeviceErrorOnOneRank) {
 }
 
 }  // namespace
+
+// A 90-degree crease with the true normals tilted at random (independent errors: what --auto
+// cross-validates), small enough for the reference backend on every rank count.
+const PointCloud& jittered_crease() {
+  static const PointCloud cloud = [] {
+    test::Crease c = test::make_crease(90, 2400, 0.1, 41);
+    std::mt19937 rng(42);
+    c.cloud.normals.clear();
+    for (const Vec3& n : c.truth) c.cloud.normals.push_back(test::jitter_normal(n, 6, rng));
+    return c.cloud;
+  }();
+  return cloud;
+}
+
+// The one process's cross-validation, on rank 0, sent to every rank.
+pnf::detail::CrossValidation one_process_cross_validation(const PointCloud& cloud, double mean_radius) {
+  pnf::detail::CrossValidation cv;
+  double values[5] = {0, 0, 0, 0, 0};
+  if (rank() == 0) {
+    NormalFilter filter(reference_options());
+    cv = pnf::detail::cross_validate(cloud, mean_radius, filter);
+    values[0] = cv.params.sigma_f, values[1] = cv.params.sigma_g, values[2] = cv.params.iterations;
+    values[3] = cv.score, values[4] = double(cv.held_out);
+  }
+  MPI_Bcast(values, 5, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  cv.params.sigma_f = values[0], cv.params.sigma_g = values[1], cv.params.iterations = int(values[2]);
+  cv.score = values[3], cv.held_out = std::size_t(values[4]);
+  return cv;
+}
+
+// The distributed cross-validation holds out the one process's points, gives each the same
+// neighbours and sums the same scores: the same setting, and its score to rounding (the sums'
+// order differs). A held-out point missing a neighbour beyond its rank's halo, a nudged point
+// the one process does not nudge, or a rank's rest seeing a held-out point would each move the
+// score by far more.
+TEST(MpiAuto, CrossValidationIsTheOneProcesses) {
+  const PointCloud& cloud = jittered_crease();
+  // Half the mean radius keeps the grid's widest lists short (this tests the bookkeeping, not
+  // the choice).
+  const double mean_radius = 0.5 * estimate_mean_radius(cloud.positions);
+  const pnf::detail::CrossValidation want = one_process_cross_validation(cloud, mean_radius);
+  for (const Split& split : {Split(even), Split(uneven), Split(all_on_last)}) {
+    const std::vector<std::size_t> first = split(cloud.size(), ranks());
+    const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+    const mpi::detail::Agreement agree(MPI_COMM_WORLD);
+    const pnf::detail::CrossValidation got =
+        mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), mean_radius, reference_options(), {});
+    EXPECT_EQ(got.params.sigma_f, want.params.sigma_f);
+    EXPECT_EQ(got.params.sigma_g, want.params.sigma_g);
+    EXPECT_EQ(got.params.iterations, want.params.iterations);
+    EXPECT_NEAR(got.score, want.score, 1e-9 * want.score);
+    EXPECT_EQ(got.held_out, want.held_out);
+  }
+}
+
+// pnf::mpi::choose_filter_params cross-validates such normals and reports it as one process does.
+TEST(MpiAuto, ChoiceCrossValidatesIndependentErrors) {
+  const PointCloud& cloud = jittered_crease();
+  const std::vector<std::size_t> first = even(cloud.size(), ranks());
+  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  const AutoChoice choice = mpi::choose_filter_params(MPI_COMM_WORLD, CloudView(part), reference_options());
+  EXPECT_TRUE(choice.cross_validated) << choice.rule;
+  EXPECT_NE(choice.rule.find("cross-validated"), std::string::npos) << choice.rule;
+  EXPECT_FALSE(choice.rule_before_cross_validation.empty());
+  EXPECT_EQ(choice.params.mean_radius, estimate_mean_radius(cloud.positions)) << "not the one process's mean radius";
+}
 
 int main(int argc, char** argv) {
   int provided = 0;

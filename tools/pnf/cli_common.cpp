@@ -123,4 +123,30 @@ FilterOptions DeviceFlags::options() const {
   return o;
 }
 
+void print_auto(const AutoChoice& choice, double seconds) {
+  const DataEstimate& e = choice.estimate;
+  std::fprintf(stderr,
+               "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose in "
+               "%.2f s\n",
+               e.samples, e.points, e.fit_neighbours, e.fit_radius, seconds);
+  std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
+               to_string(e.radius_source), e.area_spacing);
+  std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
+               e.position_noise, e.position_noise_area_spacings());
+  if (e.normal_noise_deg >= 0) {
+    std::fprintf(stderr,
+                 "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f, coupled to the "
+                 "positions %.2f\n",
+                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling);
+  }
+  std::fprintf(stderr,
+               "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "
+               "%.0f%% of the smooth ones curved\n",
+               e.crease_length, 100 * e.feature_share, e.crease_sharpness, 100 * e.curved_share);
+  // The rule's line stays visible: it is what the estimate alone (choose_filter_params(estimate)) gives.
+  if (choice.cross_validated)
+    std::fprintf(stderr, "  rule would take  %s\n", choice.rule_before_cross_validation.c_str());
+  std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
+}
+
 }  // namespace pnf::cli

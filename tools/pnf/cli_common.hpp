@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/normal_filter.hpp"
 #include "pnf/point_file.hpp"
@@ -54,6 +55,10 @@ struct DeviceFlags {
 // --pcd-data ascii|binary|binary_compressed for the commands that write: the DATA encoding of a
 // .pcd OUT (default: the input's, binary for a non-PCD input; ascii with --ascii). Binds `value`.
 void add_pcd_data_option(CLI::App& app, std::string& value);
+
+// `pnf filter --auto`'s report on stderr: the estimate, the rule's line where it was
+// cross-validated ("rule would take"), and the choice; `seconds` the time it took.
+void print_auto(const AutoChoice& choice, double seconds);
 
 // The WriteOptions for --ascii and --pcd-data (empty: not given).
 WriteOptions write_options(bool ascii, const std::string& pcd_data);

@@ -64,32 +64,6 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
 }
 
-// `rule` is the rule's choice; `choice` is what was used (the same, or its cross-validated setting).
-void print_auto(const AutoChoice& rule, const AutoChoice& choice, double seconds) {
-  const DataEstimate& e = choice.estimate;
-  std::fprintf(stderr,
-               "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose in "
-               "%.2f s\n",
-               e.samples, e.points, e.fit_neighbours, e.fit_radius, seconds);
-  std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
-               to_string(e.radius_source), e.area_spacing);
-  std::fprintf(stderr, "  position noise   %.4g model units = %.3g area spacings (along the normal)\n",
-               e.position_noise, e.position_noise_area_spacings());
-  if (e.normal_noise_deg >= 0) {
-    std::fprintf(stderr,
-                 "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f, coupled to the "
-                 "positions %.2f\n",
-                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling);
-  }
-  std::fprintf(stderr,
-               "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "
-               "%.0f%% of the smooth ones curved\n",
-               e.crease_length, 100 * e.feature_share, e.crease_sharpness, 100 * e.curved_share);
-  // The rule's line stays visible: it is what a distributed run (which does not cross-validate) uses.
-  if (choice.cross_validated) std::fprintf(stderr, "  rule would take  %s\n", rule.rule.c_str());
-  std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
-}
-
 int run_filter(const FilterFlags& flags) {
   FilterParams params = flags.params;
   params.units = flags.units == "absolute" ? Units::absolute : Units::radius;
@@ -131,13 +105,11 @@ int run_filter(const FilterFlags& flags) {
     if (flags.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
       // Input normals with independent errors are cross-validated on the filter.
-      const AutoChoice rule = choose_filter_params(cloud);
-      const AutoChoice choice =
-          needs_cross_validation(rule) ? cross_validate_choice(cloud, rule, filter, progress_bar(flags.quiet)) : rule;
+      const AutoChoice choice = choose_filter_params(cloud, filter, progress_bar(flags.quiet));
       params = choice.params;
       // An explicit --stop-change (0 included: off) wins over the rule's.
       if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
-      if (!flags.quiet) print_auto(rule, choice, seconds_since(t_auto));
+      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
     }
     FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;

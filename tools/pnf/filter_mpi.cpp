@@ -63,74 +63,6 @@ std::vector<Vec3> gather_normals(MPI_Comm comm, const std::vector<Vec3>& mine, s
   return all;
 }
 
-// --auto across ranks: each rank estimates the data on its own slice (a few hundred fitted
-// samples each, so every rank's part of the model has its say); every rank pools all the
-// estimates (pnf::pool_estimates) and applies the one rule to the pool.
-AutoChoice choose_params_distributed(MPI_Comm comm, const PointCloud& local) {
-  DataEstimate e;
-  e.points = local.size();
-  try {
-    if (local.size() > 0) e = estimate_data(local);
-  } catch (const Error&) {
-    e = DataEstimate{};  // too few points on this rank to estimate: only its points count
-    e.points = local.size();
-  }
-  // Every field as a double (all of them are exact in one: counts stay far below 2^53).
-  constexpr int kFields = 17;
-  const double mine[kFields] = {double(e.points),
-                                double(e.samples),
-                                e.mean_radius,
-                                double(int(e.radius_source)),
-                                e.area_spacing,
-                                e.position_noise,
-                                e.normal_noise_deg,
-                                double(e.fit_neighbours),
-                                e.fit_radius,
-                                e.feature_share,
-                                e.crease_length,
-                                double(e.edge_samples),
-                                double(e.feature_samples),
-                                e.curved_share,
-                                e.normal_error_correlation,
-                                e.normal_position_coupling,
-                                e.crease_sharpness};
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  std::vector<double> all(std::size_t(ranks) * kFields);
-  MPI_Allgather(mine, kFields, MPI_DOUBLE, all.data(), kFields, MPI_DOUBLE, comm);
-  std::vector<DataEstimate> parts(static_cast<std::size_t>(ranks));
-  bool any_samples = false;
-  std::size_t points = 0;
-  for (int r = 0; r < ranks; ++r) {
-    const double* f = all.data() + std::size_t(r) * kFields;
-    DataEstimate& p = parts[std::size_t(r)];
-    p.points = std::size_t(f[0]);
-    p.samples = std::size_t(f[1]);
-    p.mean_radius = f[2];
-    p.radius_source = RadiusSource(int(f[3]));
-    p.area_spacing = f[4];
-    p.position_noise = f[5];
-    p.normal_noise_deg = f[6];
-    p.fit_neighbours = int(f[7]);
-    p.fit_radius = f[8];
-    p.feature_share = f[9];
-    p.crease_length = f[10];
-    p.edge_samples = std::size_t(f[11]);
-    p.feature_samples = std::size_t(f[12]);
-    p.curved_share = f[13];
-    p.normal_error_correlation = f[14];
-    p.normal_position_coupling = f[15];
-    p.crease_sharpness = f[16];
-    any_samples = any_samples || p.samples > 0;
-    points += p.points;
-  }
-  if (!any_samples) {  // pool_estimates would refuse too; say it in the CLI's terms
-    throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data (" +
-                                              std::to_string(ranks) + " ranks, " + std::to_string(points) + " points)");
-  }
-  return choose_filter_params(pool_estimates(parts));
-}
-
 void print_summary(const DistributedFilterRun& run, const FilterParams& params, const mpi::DistributedSummary& s,
                    bool sliced, double read_s, double write_s) {
   const FilterSummary& l = s.local;
@@ -204,23 +136,12 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
     stage = Stage::running;
     if (run.automatic) {
       const auto t_auto = Clock::now();
-      AutoChoice choice;
-      agree.run([&] { choice = choose_params_distributed(comm, local); });
+      // Collective, agreeing on failures itself (AgreedError on every rank).
+      const AutoChoice choice =
+          mpi::choose_filter_params(comm, local, run.options, rank == 0 ? progress_bar(run.quiet) : ProgressCallback{});
       params = choice.params;
       if (run.stop_change >= 0) params.stop_change_deg = run.stop_change;
-      if (rank == 0 && !run.quiet) {
-        std::fprintf(stderr, "pnf filter --auto: estimated on every rank's slice, %zu samples in %.2f s\n  chose %s\n",
-                     choice.estimate.samples, seconds_since(t_auto), choice.rule.c_str());
-        // Cross-validation filters the whole cloud 15 times in one process; a distributed run
-        // keeps the rule's line for such normals, and says how to get the single-process choice.
-        if (needs_cross_validation(choice)) {
-          std::fprintf(stderr,
-                       "  note             these normals' errors look independent of the positions: a single-process "
-                       "`pnf filter --auto` would cross-validate the setting (docs/auto.md); this distributed run "
-                       "uses the rule's line. For the same choice, run `pnf filter --auto` once without mpirun and "
-                       "pass the sigmas it prints\n");
-        }
-      }
+      if (rank == 0 && !run.quiet) print_auto(choice, seconds_since(t_auto));
     }
     std::vector<Vec3> normals(local.size());
     const mpi::DistributedSummary summary = mpi::improve_normals(

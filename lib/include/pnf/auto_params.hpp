@@ -123,6 +123,9 @@ struct AutoChoice {
   // Whether the rule's independent-errors line was replaced by cross-validation (the overload
   // with a filter, below).
   bool cross_validated = false;
+  // Where cross_validated: the rule's own line, which cross-validation replaced (what the rule
+  // alone would have taken); empty otherwise.
+  std::string rule_before_cross_validation;
 };
 
 // The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings

@@ -259,14 +259,13 @@ bool needs_cross_validation(const AutoChoice& choice) {
          e.points >= detail::cross_validation_min_points();
 }
 
-AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
-                                 const ProgressCallback& progress) {
+AutoChoice detail::with_cross_validation(const AutoChoice& choice, const CrossValidation& cv) {
   const DataEstimate& e = choice.estimate;
-  const detail::CrossValidation cv = detail::cross_validate(cloud, e.mean_radius, filter, progress);
   AutoChoice out = choice;
   out.params = cv.params;
   out.params.stop_change_deg = choice.params.stop_change_deg;
   out.cross_validated = true;
+  out.rule_before_cross_validation = choice.rule;
   const FilterParams& p = out.params;
   const bool off = p.sigma_g >= kSigmaGOff;
   out.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
@@ -278,6 +277,12 @@ AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choic
              (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
              std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
   return out;
+}
+
+AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
+                                 const ProgressCallback& progress) {
+  return detail::with_cross_validation(
+      choice, detail::cross_validate(cloud, choice.estimate.mean_radius, filter, progress));
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {

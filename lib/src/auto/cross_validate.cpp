@@ -70,35 +70,10 @@ void build_lists(Predictor& p, const SpatialIndex& index, double reach) {
   }
 }
 
-// One setting's sums over the held-out points of every fold.
-struct Tally {
-  double distance2 = 0;   // |out - input|^2
-  double divergence = 0;  // over the nudged points
-  std::size_t points = 0, nudged = 0;
-
-  // The setting's score, lower is better: the mean squared distance of the held-out normals to
-  // their input normals, over 1 - the mean divergence of a normal over its own input (over the
-  // tangent plane; 2 for passes that keep the input, 0 for passes that ignore it).
-  // Why: with e a point's input error (independent, isotropic in the tangent plane, mean square
-  // s2) and out its normal after the passes, Stein's unbiased risk estimate gives the mean
-  // squared error as E|out - input|^2 - s2 (1 - div): the others' normals know nothing of e,
-  // so out depends on it only through the point's own normal. s2 is not known well enough to
-  // subtract (the input's error is many times the filtered one's); but every error is >= 0, so
-  // s2 <= E|out - input|^2 / (1 - div) for every setting, with near equality at the best one.
-  // The smallest such bound, which this score picks, is s2 + error / (1 - div): the best
-  // setting's error, weighed up slightly where a point keeps more of its own normal (div up to
-  // 0.4 on the evaluation's cases). The generalised cross-validation of smoothing splines has
-  // this shape. A setting with div >= 1 (most of each input kept) scores infinite.
-  double score() const {
-    const double div = divergence / double(nudged);
-    return div < 1 ? distance2 / double(points) / (1 - div) : HUGE_VAL;
-  }
-};
-
 // The held-out points' normals through the passes, each point seeing only its own normal and
 // the others' (of the pass before); and for the first `nudged` of them (a random subset: the
 // held-out points are in random order) the same from their input normal nudged along either
-// direction of its tangent plane, for the divergence in score(). The mean divergence varies
+// direction of its tangent plane, for the divergence in Tally::score. The mean divergence varies
 // little between points of one region (how much of its own normal a point keeps), so a few
 // thousand points measure it, at a fraction of the cost of nudging them all.
 struct HeldOutPasses {
@@ -160,54 +135,79 @@ struct HeldOutPasses {
         tally.divergence += ((a.x - b.x) * t[0] + (a.y - b.y) * t[1] + (a.z - b.z) * t[2]) / kNudge;
       }
     }
-    tally.points += input.size();
-    tally.nudged += tangent[0].size();
+    tally.points += double(input.size());
+    tally.nudged += double(tangent[0].size());
   }
 };
-
-}  // namespace
-
-std::size_t cross_validation_min_points() { return kMinPoints; }
-
-namespace {
 
 // The settings' tallies: index (sigma_f, sigma_g, passes) in the order of kSigmaF, kSigmaG, kPasses.
 std::size_t setting_index(std::size_t f, std::size_t g, std::size_t pass) {
   return (f * std::size(kSigmaG) + g) * std::size(kPasses) + pass;
 }
 
-// One fold: the points ids[first, first + held) held out, the others filtered at every setting;
-// adds to `tallies`. `runs` counts the filter runs done, for progress.
-void run_fold(const CloudView& cloud, const std::vector<std::uint32_t>& ids, std::size_t first, std::size_t held,
-              double mean_radius, NormalFilter& filter, const ProgressCallback& progress, std::vector<Tally>& tallies,
-              std::size_t& runs, std::size_t all_runs) {
-  const std::size_t n = cloud.size();
-  // Held-out rows first, in their random order (HeldOutPasses nudges the first few thousand).
-  std::vector<std::uint32_t> order(ids.begin() + std::ptrdiff_t(first), ids.begin() + std::ptrdiff_t(first + held));
-  order.insert(order.end(), ids.begin(), ids.begin() + std::ptrdiff_t(first));
-  order.insert(order.end(), ids.begin() + std::ptrdiff_t(first + held), ids.end());
+pnf_real4 unit4(const Vec3& v) {
+  const double len = geometry::norm(v);
+  return pnf_real4{v[0] / len, v[1] / len, v[2] / len, 0};
+}
+
+}  // namespace
+
+// The setting's score, lower is better: the mean squared distance of the held-out normals to
+// their input normals, over 1 - the mean divergence of a normal over its own input (over the
+// tangent plane; 2 for passes that keep the input, 0 for passes that ignore it).
+// Why: with e a point's input error (independent, isotropic in the tangent plane, mean square
+// s2) and out its normal after the passes, Stein's unbiased risk estimate gives the mean
+// squared error as E|out - input|^2 - s2 (1 - div): the others' normals know nothing of e,
+// so out depends on it only through the point's own normal. s2 is not known well enough to
+// subtract (the input's error is many times the filtered one's); but every error is >= 0, so
+// s2 <= E|out - input|^2 / (1 - div) for every setting, with near equality at the best one.
+// The smallest such bound, which this score picks, is s2 + error / (1 - div): the best
+// setting's error, weighed up slightly where a point keeps more of its own normal (div up to
+// 0.4 on the evaluation's cases). The generalised cross-validation of smoothing splines has
+// this shape. A setting with div >= 1 (most of each input kept) scores infinite.
+double Tally::score() const {
+  const double div = divergence / nudged;
+  return div < 1 ? distance2 / points / (1 - div) : HUGE_VAL;
+}
+
+std::size_t cross_validation_min_points() { return kMinPoints; }
+std::size_t nudged_per_fold() { return kNudgedPoints; }
+std::size_t rest_runs_per_fold() { return std::size(kSigmaF) * std::size(kSigmaG); }
+double widest_reach_in_mean_radii() { return PNF_SUPPORT_IN_SIGMA_F * kSigmaF[std::size(kSigmaF) - 1]; }
+std::vector<Tally> empty_tallies() {
+  return std::vector<Tally>(std::size(kSigmaF) * std::size(kSigmaG) * std::size(kPasses));
+}
+
+HeldOutDraw draw_held_out(std::size_t n) {
+  std::vector<std::uint32_t> ids(n);
+  std::iota(ids.begin(), ids.end(), 0u);
+  std::mt19937 rng(kSeed);
+  std::shuffle(ids.begin(), ids.end(), rng);
+  HeldOutDraw draw;
+  draw.held = std::min(std::size_t(double(n) * kHeldOutShare), kMaxHeldOut);
+  draw.folds = std::clamp<std::size_t>((kScoredPoints + draw.held - 1) / draw.held, 1, kMaxFolds);
+  ids.resize(draw.held * draw.folds);
+  draw.ids = std::move(ids);
+  return draw;
+}
+
+void score_fold(const FoldRows& fold, double mean_radius, const RestRun& run_rest, const ProgressCallback& progress,
+                std::vector<Tally>& tallies, std::size_t& runs, std::size_t all_runs) {
+  const std::size_t held = fold.held_positions.size(), rest = fold.rest_positions.size();
   Predictor p;
   p.held = held;
-  const Vec3 centre = bounding_box(cloud.positions).centre();
-  std::vector<double> centred(3 * n);
-  std::vector<Vec3> rest_positions, rest_normals, rest_out(n - held);
-  p.positions.resize(n);
-  p.normals.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 x = cloud.positions.at(order[k]), v = cloud.normals.at(order[k]);
-    const double len = geometry::norm(v);
-    for (int c = 0; c < 3; ++c) centred[3 * k + c] = x[c] - centre[c];
-    p.positions[k] = pnf_real4{centred[3 * k], centred[3 * k + 1], centred[3 * k + 2], 0};
-    p.normals[k] = pnf_real4{v[0] / len, v[1] / len, v[2] / len, 0};
-    if (k >= held) {
-      rest_positions.push_back(x);
-      rest_normals.push_back(v);
-    }
-  }
+  std::vector<double> centred;
+  centred.reserve(3 * (held + rest));
+  auto add_row = [&](const Vec3& x, const Vec3& v) {
+    for (int c = 0; c < 3; ++c) centred.push_back(x[c] - fold.centre[c]);
+    p.positions.push_back(pnf_real4{x[0] - fold.centre[0], x[1] - fold.centre[1], x[2] - fold.centre[2], 0});
+    p.normals.push_back(unit4(v));
+  };
+  for (std::size_t k = 0; k < held; ++k) add_row(fold.held_positions[k], fold.held_normals[k]);
+  for (std::size_t k = 0; k < rest; ++k) add_row(fold.rest_positions[k], fold.rest_normals[k]);
   const std::vector<pnf_real4> held_input(p.normals.begin(), p.normals.begin() + std::ptrdiff_t(held));
   const std::vector<pnf_real4> rest_input(p.normals.begin() + std::ptrdiff_t(held), p.normals.end());
   const SpatialIndex index(std::move(centred), SpatialIndex::Layout::any_order);
-  const CloudView rest(rest_positions, rest_normals);
 
   for (std::size_t f = 0; f < std::size(kSigmaF); ++f) {
     const double sigma_f = kSigmaF[f];
@@ -222,7 +222,7 @@ void run_fold(const CloudView& cloud, const std::vector<std::uint32_t>& ids, std
       params.iterations = kMaxPasses - 1;
       const pnf_coeffs c = pnf_make_coeffs(sigma_f * mean_radius, kSigmaG[g] * mean_radius);
       // Pass P at a held-out point: one step over the others' normals after P - 1 passes.
-      HeldOutPasses passes(held_input, kNudgedPoints);
+      HeldOutPasses passes(held_input, fold.nudged);
       std::copy(rest_input.begin(), rest_input.end(), p.normals.begin() + std::ptrdiff_t(held));
       auto step = [&](int pass) {
         passes.step(p, c);
@@ -234,10 +234,10 @@ void run_fold(const CloudView& cloud, const std::vector<std::uint32_t>& ids, std
       auto still_wanted = [&](const PassProgress&) {
         return !progress || progress(PassProgress{0, 0, 0, ProgressStage::cross_validation, fraction});
       };
-      FilterFactory::run_observed(
-          filter, rest, MutableVec3ArrayView(rest_out), params,
+      run_rest(
+          params,
           [&](int pass, const std::vector<double>& normals) {
-            for (std::size_t k = 0; k + held < n; ++k) {
+            for (std::size_t k = 0; k < rest; ++k) {
               p.normals[held + k] = pnf_real4{normals[3 * k], normals[3 * k + 1], normals[3 * k + 2], 0};
             }
             step(pass + 1);
@@ -252,35 +252,10 @@ void run_fold(const CloudView& cloud, const std::vector<std::uint32_t>& ids, std
   }
 }
 
-}  // namespace
-
-CrossValidation cross_validate(const CloudView& cloud, double mean_radius, NormalFilter& filter,
-                               const ProgressCallback& progress) {
-  const std::size_t n = cloud.size();
-  if (n < kMinPoints || cloud.normals.count != n) {
-    throw Error(ErrorCode::invalid_argument, "cross-validation needs " + std::to_string(kMinPoints) +
-                                                 " points or more, with normals; got " + std::to_string(n));
-  }
-  if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
-    throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
-  }
-  std::vector<std::uint32_t> ids(n);
-  std::iota(ids.begin(), ids.end(), 0u);
-  std::mt19937 rng(kSeed);
-  std::shuffle(ids.begin(), ids.end(), rng);
-  const std::size_t held = std::min(std::size_t(double(n) * kHeldOutShare), kMaxHeldOut);
-  const std::size_t folds = std::clamp<std::size_t>((kScoredPoints + held - 1) / held, 1, kMaxFolds);
-
-  std::vector<Tally> tallies(std::size(kSigmaF) * std::size(kSigmaG) * std::size(kPasses));
-  std::size_t runs = 0;
-  const std::size_t all_runs = folds * std::size(kSigmaF) * std::size(kSigmaG);
-  for (std::size_t fold = 0; fold < folds; ++fold) {
-    run_fold(cloud, ids, fold * held, held, mean_radius, filter, progress, tallies, runs, all_runs);
-  }
-
+CrossValidation best_setting(const std::vector<Tally>& tallies, const HeldOutDraw& draw, double mean_radius) {
   CrossValidation best;
-  best.held_out = held * folds;
-  best.folds = folds;
+  best.held_out = draw.held * draw.folds;
+  best.folds = draw.folds;
   best.settings = tallies.size();
   best.score = HUGE_VAL;
   for (std::size_t f = 0; f < std::size(kSigmaF); ++f) {
@@ -289,7 +264,7 @@ CrossValidation cross_validate(const CloudView& cloud, double mean_radius, Norma
         const Tally& t = tallies[setting_index(f, g, k)];
         if (t.score() < best.score) {
           best.score = t.score();
-          best.divergence = t.divergence / double(t.nudged);
+          best.divergence = t.divergence / t.nudged;
           best.params.sigma_f = kSigmaF[f];
           best.params.sigma_g = kSigmaG[g];
           best.params.iterations = kPasses[k];
@@ -301,6 +276,47 @@ CrossValidation cross_validate(const CloudView& cloud, double mean_radius, Norma
   best.params.mean_radius = mean_radius;
   best.params.stop_change_deg = 0;
   return best;
+}
+
+CrossValidation cross_validate(const CloudView& cloud, double mean_radius, NormalFilter& filter,
+                               const ProgressCallback& progress) {
+  const std::size_t n = cloud.size();
+  if (n < kMinPoints || cloud.normals.count != n) {
+    throw Error(ErrorCode::invalid_argument, "cross-validation needs " + std::to_string(kMinPoints) +
+                                                 " points or more, with normals; got " + std::to_string(n));
+  }
+  if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
+    throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
+  }
+  const HeldOutDraw draw = draw_held_out(n);
+  std::vector<bool> held_out(n);
+  std::vector<Tally> tallies = empty_tallies();
+  std::size_t runs = 0;
+  const std::size_t all_runs = draw.folds * rest_runs_per_fold();
+  for (std::size_t fold = 0; fold < draw.folds; ++fold) {
+    FoldRows rows;
+    rows.centre = bounding_box(cloud.positions).centre();
+    rows.nudged = std::min(kNudgedPoints, draw.held);
+    std::fill(held_out.begin(), held_out.end(), false);
+    for (std::size_t j = fold * draw.held; j < (fold + 1) * draw.held; ++j) {
+      rows.held_positions.push_back(cloud.positions.at(draw.ids[j]));
+      rows.held_normals.push_back(cloud.normals.at(draw.ids[j]));
+      held_out[draw.ids[j]] = true;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (held_out[i]) continue;
+      rows.rest_positions.push_back(cloud.positions.at(i));
+      rows.rest_normals.push_back(cloud.normals.at(i));
+    }
+    const CloudView rest(rows.rest_positions, rows.rest_normals);
+    std::vector<Vec3> rest_out(rows.rest_positions.size());
+    auto run_rest = [&](const FilterParams& params, const RestPassObserver& after_pass,
+                        const ProgressCallback& still_wanted) {
+      FilterFactory::run_observed(filter, rest, MutableVec3ArrayView(rest_out), params, after_pass, still_wanted);
+    };
+    score_fold(rows, mean_radius, run_rest, progress, tallies, runs, all_runs);
+  }
+  return best_setting(tallies, draw, mean_radius);
 }
 
 }  // namespace pnf::detail

@@ -3,8 +3,12 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
+#include "pnf/auto_params.hpp"
 #include "pnf/cloud_view.hpp"
 #include "pnf/filter_params.hpp"
 #include "pnf/normal_filter.hpp"
@@ -14,7 +18,7 @@ namespace pnf::detail {
 
 struct CrossValidation {
   FilterParams params;  // the chosen setting: units radius, the given mean radius; stop rule off
-  // Its score (HeldOutPasses::score in the source): about the input normals' mean squared error
+  // Its score (Tally::score in the source): about the input normals' mean squared error
   // (sin^2 of the angle) plus the chosen setting's, so an upper estimate of the input's.
   double score = 0;
   double divergence = 0;     // how much of its own input normal a held-out point keeps (0 to 2)
@@ -38,5 +42,59 @@ CrossValidation cross_validate(const CloudView& cloud, double mean_radius, Norma
 
 // The fewest points cross_validate takes.
 std::size_t cross_validation_min_points();
+
+// `choice` with the cross-validated setting (its stop rule kept), cross_validated set, and the
+// rule text saying so (the rule's own line kept in rule_before_cross_validation).
+AutoChoice with_cross_validation(const AutoChoice& choice, const CrossValidation& cv);
+
+// The parts cross_validate is made of, for a distributed run (lib/src/mpi) to do the same on
+// every rank's share of the cloud.
+
+// Which points are held out of a cloud of n points: fold f holds ids[f * held, (f + 1) * held),
+// the first few thousand of each fold (in this order) nudged for the divergence.
+struct HeldOutDraw {
+  std::size_t held = 0, folds = 0;
+  std::vector<std::uint32_t> ids;
+};
+HeldOutDraw draw_held_out(std::size_t n);
+// How many of a fold's first points are nudged.
+std::size_t nudged_per_fold();
+// The rest's filter runs per fold (one per (sigma_f, sigma_g)).
+std::size_t rest_runs_per_fold();
+// The widest reach of the grid's settings, in mean radii: the others a held-out point may see.
+double widest_reach_in_mean_radii();
+
+// One fold as one process holds it.
+struct FoldRows {
+  std::vector<Vec3> held_positions, held_normals;  // its held-out points, the `nudged` first
+  std::size_t nudged = 0;
+  // The others: every one within the widest reach of a held-out point must be here (a distributed
+  // run's halo after its own).
+  std::vector<Vec3> rest_positions, rest_normals;
+  Vec3 centre = {0, 0, 0};  // subtracted from every position (the cloud's bounding-box centre)
+};
+
+// One setting's sums over the held-out points (all doubles, so that processes can add them up).
+struct Tally {
+  double distance2 = 0;   // |out - input|^2
+  double divergence = 0;  // over the nudged points
+  double points = 0, nudged = 0;
+  double score() const;
+};
+std::vector<Tally> empty_tallies();
+
+// Runs the filter on the fold's rest at `params` (7 passes, stop rule off), calling after_pass
+// after every pass with the new normals of all of FoldRows::rest_positions (N by 3, their order).
+using RestPassObserver = std::function<void(int pass, const std::vector<double>& rest_normals)>;
+using RestRun = std::function<void(const FilterParams& params, const RestPassObserver& after_pass,
+                                   const ProgressCallback& still_wanted)>;
+
+// Adds one fold's scores at every setting to `tallies`; `runs` counts the rest's runs done of
+// `all_runs`, for progress.
+void score_fold(const FoldRows& fold, double mean_radius, const RestRun& run_rest, const ProgressCallback& progress,
+                std::vector<Tally>& tallies, std::size_t& runs, std::size_t all_runs);
+
+// The lowest-scoring setting.
+CrossValidation best_setting(const std::vector<Tally>& tallies, const HeldOutDraw& draw, double mean_radius);
 
 }  // namespace pnf::detail

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "opencl_backend.hpp"
+#include "reference_backend.hpp"
+
 namespace pnf::mpi::detail {
 
 Device choose_device(MPI_Comm comm, const Device& requested) {
@@ -24,6 +27,14 @@ Device choose_device(MPI_Comm comm, const Device& requested) {
   if (gpus.size() < 2) return device;
   const DeviceInfo& mine = gpus[std::size_t(local_rank) % gpus.size()];
   return Device::opencl(std::to_string(mine.platform_index) + ":" + std::to_string(mine.device_index));
+}
+
+std::unique_ptr<pnf::detail::FilterBackend> make_rank_backend(MPI_Comm comm, const FilterOptions& options,
+                                                              FilterOptions& resolved) {
+  resolved = options;
+  resolved.device = choose_device(comm, options.device);  // its one collective comes first
+  return resolved.device.backend == Backend::opencl ? pnf::detail::make_opencl_backend(resolved.device.selector, 0)
+                                                    : pnf::detail::make_reference_backend(resolved.reference_threads);
 }
 
 }  // namespace pnf::mpi::detail

@@ -12,29 +12,15 @@
 #include "filter_engine.hpp"
 #include "halo.hpp"
 #include "mean_radius_mpi.hpp"
-#include "opencl_backend.hpp"
+#include "own_comm.hpp"
 #include "partition.hpp"
 #include "pnf_common.h"
-#include "reference_backend.hpp"
 
 namespace pnf::mpi {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// A duplicate of the caller's communicator, so that no message of ours meets one of theirs.
-class OwnComm {
- public:
-  explicit OwnComm(MPI_Comm comm) { MPI_Comm_dup(comm, &comm_); }
-  ~OwnComm() { MPI_Comm_free(&comm_); }
-  OwnComm(const OwnComm&) = delete;
-  OwnComm& operator=(const OwnComm&) = delete;
-  MPI_Comm get() const { return comm_; }
-
- private:
-  MPI_Comm comm_;
-};
 
 template <typename T>
 void reduce_min_max(MPI_Comm comm, T value, T& low, T& high) {
@@ -54,7 +40,7 @@ unsigned long long sum_over(MPI_Comm comm, unsigned long long value) {
 DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                    const FilterParams& params, const FilterOptions& options,
                                    const ProgressCallback& progress) {
-  OwnComm own_comm(caller_comm);
+  detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
   DistributedSummary summary;
@@ -79,14 +65,9 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
                                                    " rows for " + std::to_string(local.size()) + " points");
     }
   });
-  FilterOptions resolved = options;
+  FilterOptions resolved;
   std::unique_ptr<pnf::detail::FilterBackend> backend;
-  agree.run([&] {
-    resolved.device = detail::choose_device(comm, options.device);  // its one collective comes first
-    backend = resolved.device.backend == Backend::opencl
-                  ? pnf::detail::make_opencl_backend(resolved.device.selector, 0)
-                  : pnf::detail::make_reference_backend(resolved.reference_threads);
-  });
+  agree.run([&] { backend = detail::make_rank_backend(comm, options, resolved); });
 
   auto t = Clock::now();
   const detail::GlobalFrame frame = detail::global_frame(comm, local.positions);

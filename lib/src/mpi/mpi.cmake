@@ -2,6 +2,8 @@
 # that pnf::pnf never depends on MPI. Uses the engine's internals (lib/src, host, kernels).
 add_library(pnf_mpi
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/agreement.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/mpi/choose_filter_params_mpi.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/mpi/cross_validate_mpi.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/device_choice.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/halo.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/improve_normals.cpp
