@@ -131,6 +131,23 @@ TEST(CrossValidation, SmallCloudsAreLeftToTheRuleAndCancellingStops) {
   EXPECT_EQ(calls, 3);
 }
 
+// The estimate skips a bad input normal, so the gate can pass; the cross-validation then refuses
+// it as the filter does, naming the vertex in the caller's numbering (not a fold's).
+TEST(CrossValidation, BadNormalIsRefusedWithItsVertex) {
+  Crease c = make_crease(90, 4000, 0.1, 65);
+  jitter(c, 8, 66);
+  c.cloud.normals[1234] = {std::nan(""), 0, 1};
+  const AutoChoice rule = choose_filter_params(c.cloud);
+  ASSERT_TRUE(needs_cross_validation(rule)) << rule.rule;
+  try {
+    cross_validate_choice(c.cloud, rule, fastest_filter());
+    ADD_FAILURE() << "a NaN normal was cross-validated";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vertex 1234 "), std::string::npos) << e.what();
+  }
+}
+
 // The gate on the estimate alone: on clean positions, where the coupling has nothing to follow,
 // errors somewhat alike between neighbours are PCA's (the clean tori with PCA-32 and PCA-64
 // normals read correlations 0.18 and 0.34, couplings 0.19 and 0.07) and keep the rule's line;

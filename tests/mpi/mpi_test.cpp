@@ -324,6 +324,48 @@ TEST(MpiAuto, ChoiceCrossValidatesIndependentErrors) {
   EXPECT_EQ(choice.params.mean_radius, estimate_mean_radius(cloud.positions)) << "not the one process's mean radius";
 }
 
+// A NaN normal in one rank's rows: every rank throws the one-process message, the vertex counted
+// among all ranks' points.
+TEST(MpiAuto, BadNormalOnOneRankIsRefusedEverywhere) {
+  PointCloud cloud = jittered_crease();
+  const std::size_t bad = cloud.size() - 7;  // on the last rank
+  cloud.normals[bad] = {0, std::nan(""), 1};
+  const std::vector<std::size_t> first = even(cloud.size(), ranks());
+  const std::size_t begin = first[std::size_t(rank())];
+  const PointCloud part = slice(cloud, begin, first[std::size_t(rank()) + 1]);
+  const mpi::detail::Agreement agree(MPI_COMM_WORLD);
+  try {
+    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 1.0, reference_options(), {});
+    ADD_FAILURE() << "a NaN normal was cross-validated";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
+    const std::size_t last_first = first[std::size_t(ranks() - 1)];
+    const std::string want = "vertex " + std::to_string(bad - last_first) + " has a NaN";
+    EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vertex " + std::to_string(last_first) + " of all ranks"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Rank 0's progress callback cancels in the middle of the settings: every rank ends with
+// Error(cancelled), none left waiting in a halo exchange.
+TEST(MpiAuto, CancellingOnRankZeroEndsItEverywhere) {
+  const PointCloud& cloud = jittered_crease();
+  const std::vector<std::size_t> first = even(cloud.size(), ranks());
+  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  const mpi::detail::Agreement agree(MPI_COMM_WORLD);
+  int calls = 0;
+  const ProgressCallback progress = [&](const PassProgress&) { return ++calls < 5; };
+  try {
+    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 0.5 * estimate_mean_radius(cloud.positions),
+                                reference_options(), rank() == 0 ? progress : ProgressCallback{});
+    ADD_FAILURE() << "not cancelled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+  }
+  if (rank() == 0) EXPECT_EQ(calls, 5);
+}
+
 int main(int argc, char** argv) {
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "cloud_checks.hpp"
 #include "filter_factory.hpp"
 #include "geometry.hpp"
 #include "pnf/bounding_box.hpp"
@@ -285,6 +286,9 @@ CrossValidation cross_validate(const CloudView& cloud, double mean_radius, Norma
     throw Error(ErrorCode::invalid_argument, "cross-validation needs " + std::to_string(kMinPoints) +
                                                  " points or more, with normals; got " + std::to_string(n));
   }
+  // As the filter checks them, before the folds renumber the points (the estimate that led here
+  // skips bad normals; a NaN among the held-out ones would make every score NaN).
+  check_cloud(cloud, CloudRequirements::filter());
   if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
     throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
   }

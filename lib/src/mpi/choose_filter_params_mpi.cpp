@@ -109,12 +109,9 @@ AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, co
   AutoChoice choice;
   agree.run([&] { choice = choose_filter_params(estimate); });
   if (!needs_cross_validation(choice)) return choice;
-  pnf::detail::CrossValidation cv;
-  agree.run([&] {
-    cv = detail::cross_validate(comm, agree, local, mean_radius, options,
-                                agree.rank() == 0 ? progress : ProgressCallback{});
-  });
-  return pnf::detail::with_cross_validation(choice, cv);
+  return pnf::detail::with_cross_validation(choice,
+                                            detail::cross_validate(comm, agree, local, mean_radius, options,
+                                                                   agree.rank() == 0 ? progress : ProgressCallback{}));
 }
 
 }  // namespace pnf::mpi

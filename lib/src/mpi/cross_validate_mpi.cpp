@@ -11,6 +11,7 @@
 #include "filter_engine.hpp"
 #include "halo.hpp"
 #include "partition.hpp"
+#include "rank_cloud_check.hpp"
 
 namespace pnf::mpi::detail {
 namespace {
@@ -53,9 +54,11 @@ Vec3 row(const std::vector<double>& values, std::size_t i) {
 
 }  // namespace
 
-pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
-                                            double mean_radius, const FilterOptions& options,
-                                            const ProgressCallback& progress) {
+namespace {
+
+pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
+                                                   double mean_radius, const FilterOptions& options,
+                                                   const ProgressCallback& progress) {
   unsigned long long total = local.size();
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm), "MPI_Allreduce");
   FilterOptions resolved;
@@ -69,8 +72,9 @@ pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agre
     if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
       throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
     }
-    backend = make_rank_backend(comm, options, resolved);
+    check_rank_cloud(comm, local);
   });
+  agree.run([&] { backend = make_rank_backend(comm, options, resolved); });  // collective: a step of its own
   const GlobalFrame frame = global_frame(comm, local.positions);
   std::size_t moved = 0;
   const OwnedPoints owned = distribute(comm, local, frame, moved);
@@ -150,6 +154,18 @@ pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agre
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, tallies.data(), int(4 * tallies.size()), MPI_DOUBLE, MPI_SUM, comm),
             "MPI_Allreduce");
   return pnf::detail::best_setting(tallies, draw, mean_radius);
+}
+
+}  // namespace
+
+pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
+                                            double mean_radius, const FilterOptions& options,
+                                            const ProgressCallback& progress) {
+  // A rank that fails between the agreed steps (in its held-out passes, or rank 0 cancelling)
+  // meets the others' next check here.
+  pnf::detail::CrossValidation cv;
+  agree.run([&] { cv = agreed_cross_validate(comm, agree, local, mean_radius, options, progress); });
+  return cv;
 }
 
 }  // namespace pnf::mpi::detail

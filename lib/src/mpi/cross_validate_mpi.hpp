@@ -18,7 +18,8 @@ namespace pnf::mpi::detail {
 // owned point, exchanged after every pass) and follows its own held-out points; the scores are
 // summed over the ranks. So the choice is one process's, up to the order of floating-point sums.
 // Every collective step is preceded by `agree`'s check, so one rank's failure (or rank 0's
-// progress cancelling) ends it on every rank. `progress` is called on rank 0 only.
+// progress cancelling) ends it on every rank: all throw AgreedError with the failing rank's
+// message. `progress` is called on rank 0 only.
 pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
                                             double mean_radius, const FilterOptions& options,
                                             const ProgressCallback& progress);

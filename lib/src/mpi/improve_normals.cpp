@@ -7,7 +7,6 @@
 #include <memory>
 
 #include "agreement.hpp"
-#include "cloud_checks.hpp"
 #include "device_choice.hpp"
 #include "filter_engine.hpp"
 #include "halo.hpp"
@@ -15,6 +14,7 @@
 #include "own_comm.hpp"
 #include "partition.hpp"
 #include "pnf_common.h"
+#include "rank_cloud_check.hpp"
 
 namespace pnf::mpi {
 namespace {
@@ -47,19 +47,10 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
   summary.ranks = agree.size();
 
   // Everything that can be refused is refused before any point moves.
-  unsigned long long count = local.size(), first = 0;
-  MPI_Exscan(&count, &first, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm);
-  if (agree.rank() == 0) first = 0;
   agree.run([&] {
+    detail::check_rank_cloud(comm, local);  // its collective first, before anything can throw
     params.validate();
     options.validate();
-    try {
-      pnf::detail::check_cloud(local, pnf::detail::CloudRequirements::filter());
-    } catch (const Error& e) {
-      // Its vertex numbers count this rank's points; say where they start among all ranks'.
-      throw Error(e.code(), std::string(e.what()) + " (its vertex 0 is vertex " + std::to_string(first) +
-                                " of all ranks' points in rank order)");
-    }
     if (normals_out.count != local.size()) {
       throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
                                                    " rows for " + std::to_string(local.size()) + " points");
