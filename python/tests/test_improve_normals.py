@@ -248,6 +248,8 @@ def test_auto_cross_validates_independent_normal_errors_as_choose_params_does():
     choice = pnf.choose_params(points, normals, backend="reference")
     assert choice.cross_validated, choice.rule
     assert "cross-validated" in choice.rule
+    assert "cross-validated" not in choice.rule_before_cross_validation
+    assert "independent of the positions" in choice.rule_before_cross_validation
     a = pnf.improve_normals(points, normals, auto=True, backend="reference")
     b = pnf.improve_normals(points, normals, backend="reference", **choice.kwargs)
     np.testing.assert_array_equal(a, b)
