@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "auto/setting_grid.hpp"
 #include "eval_clouds.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/mean_radius.hpp"
@@ -49,10 +50,10 @@ namespace {
 using namespace pnf;
 using namespace pnf::eval;
 
-constexpr double kGridSigmaF[] = {2, 4, 8};
-constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
-constexpr int kGridPasses[] = {1, 2, 4, 8};
-constexpr int kMaxGridPasses = 8;
+// The grid is the cross-validation's own (lib/src/auto/setting_grid.hpp).
+using pnf::detail::kGridPasses;
+using pnf::detail::kGridSigmaF;
+using pnf::detail::kGridSigmaG;
 // The paper's face-model setting: FilterParams' defaults.
 const FilterParams kPaper{};
 // PCPNet's noise levels, as fractions of the bounding-box diagonal, and its PCA neighbourhood.
@@ -330,12 +331,14 @@ int main(int argc, char** argv) {
   std::vector<std::pair<Case, Outcome>> results;
   auto report = [&](Case& c, const Outcome& o) {
     const DataEstimate& e = o.choice.estimate;
-    std::printf("%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f, %.2f, %.3f\n",
-                c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
-                no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
-                e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
-                e.normal_noise_deg, 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation,
-                e.crease_length, e.normal_position_coupling, e.crease_sharpness);
+    std::printf(
+        "%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f, %.2f, "
+        "%.3f\n",
+        c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
+        no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
+        e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
+        e.normal_noise_deg, 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation, e.crease_length,
+        e.normal_position_coupling, e.crease_sharpness);
     std::fflush(stdout);
     c.cloud = {};
     c.truth = {};
@@ -518,8 +521,7 @@ int main(int argc, char** argv) {
           << ", \"crease_sharpness\": " << e.crease_sharpness
           << ", \"cross_validated\": " << (o.choice.cross_validated ? "true" : "false")
           << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
-          << ", \"rule\": \""
-          << json_escape(o.choice.rule) << "\", \"grid\": [";
+          << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];
         out << (g ? ", " : "") << "[" << s.sigma_f << ", " << s.sigma_g << ", " << s.passes << ", " << s.rms << "]";

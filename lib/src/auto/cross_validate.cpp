@@ -14,6 +14,7 @@
 #include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 #include "pnf_filter.h"
+#include "setting_grid.hpp"
 #include "spatial/spatial_index.hpp"
 
 namespace pnf::detail {
@@ -40,11 +41,11 @@ constexpr std::size_t kNudgedPoints = 4000;
 constexpr std::size_t kScoredPoints = 10000;
 constexpr std::size_t kMaxFolds = 4;
 constexpr std::size_t kMinPoints = 2000;
-// The grid of pnf_eval_auto (bench/eval_auto.cpp), in mean radii; 1e6 is "off".
-constexpr double kSigmaF[] = {2, 4, 8};
-constexpr double kSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
-constexpr int kPasses[] = {1, 2, 4, 8};
-constexpr int kMaxPasses = 8;
+// The settings (setting_grid.hpp, pnf_eval_auto's grid).
+constexpr const auto& kSigmaF = kGridSigmaF;
+constexpr const auto& kSigmaG = kGridSigmaG;
+constexpr const auto& kPasses = kGridPasses;
+constexpr int kMaxPasses = kGridMaxPasses;
 // The held-out points, drawn the same on every run of the same cloud.
 constexpr unsigned kSeed = 14;
 

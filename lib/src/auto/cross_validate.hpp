@@ -34,8 +34,8 @@ struct CrossValidation {
 // normals, against how much of that input they keep, ranks the settings as their true errors
 // would (Stein's unbiased risk estimate, the input's error eliminated: see the source), without
 // knowing the truth or the size of the input's error.
-// Grid (bench/eval_auto.cpp's): sigma_f 2, 4, 8 and sigma_g 0.25, 0.5, 1, 2, off mean radii; 1, 2,
-// 4, 8 passes. Needs cross_validation_min_points() points with normals; progress is told the share
+// Grid (setting_grid.hpp, pnf_eval_auto's too): sigma_f 2, 4, 8 and sigma_g 0.25, 0.5, 1, 2, off
+// mean radii; 1, 2, 4, 8 passes. Needs cross_validation_min_points() points with normals; progress is told the share
 // of settings done (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)).
 CrossValidation cross_validate(const CloudView& cloud, double mean_radius, NormalFilter& filter,
                                const ProgressCallback& progress = {});

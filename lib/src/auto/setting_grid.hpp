@@ -1,0 +1,15 @@
+// The grid of filter settings that --auto's cross-validation chooses from and that pnf_eval_auto
+// (bench/eval_auto.cpp) searches for the best fixed setting: one list, so that the evaluation's
+// "best of the grid" is always over the settings the cross-validation could pick.
+#pragma once
+
+namespace pnf::detail {
+
+// In mean radii; 1e6 is "off" (the feature term accepts every neighbour).
+inline constexpr double kGridSigmaF[] = {2, 4, 8};
+inline constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
+// Each (sigma_f, sigma_g) scored after these passes.
+inline constexpr int kGridPasses[] = {1, 2, 4, 8};
+inline constexpr int kGridMaxPasses = 8;
+
+}  // namespace pnf::detail
