@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -52,9 +54,45 @@ Vec3 row(const std::vector<double>& values, std::size_t i) {
   return {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
 }
 
-}  // namespace
-
-namespace {
+// One fold as this rank holds it: its owned points drawn into [first, last) held out, in the
+// draw's order (so that those one process nudges, the fold's first, come first here too); the
+// others, then their halo: other ranks' rest within `reach` of any owned point, which covers both
+// this rank's rest (its passes) and its held-out points (their neighbours). `plan` gets the
+// halo's exchange.
+FoldRows fold_rows(MPI_Comm comm, const OwnedPoints& owned, const std::vector<std::size_t>& place, std::size_t first,
+                   std::size_t last, double reach, const GlobalFrame& frame, HaloPlan& plan) {
+  FoldRows rows;
+  rows.centre = frame.centre();
+  std::vector<std::pair<std::size_t, std::size_t>> held;  // (place, owned index)
+  OwnedPoints rest;
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    if (place[i] >= first && place[i] < last) {
+      held.emplace_back(place[i], i);
+    } else {
+      rest.positions.insert(rest.positions.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
+      rest.normals.insert(rest.normals.end(), &owned.normals[3 * i], &owned.normals[3 * i] + 3);
+    }
+  }
+  std::sort(held.begin(), held.end());
+  for (const auto& [at, i] : held) {
+    rows.held_positions.push_back(row(owned.positions, i));
+    rows.held_normals.push_back(row(owned.normals, i));
+    if (at - first < pnf::detail::nudged_per_fold()) ++rows.nudged;
+  }
+  const std::size_t rest_owned = rest.positions.size() / 3;
+  std::vector<double> halo_positions, halo_normals;
+  plan.build(comm, rest, points_near(comm, rest.positions, owned.positions, reach, frame), halo_positions,
+             halo_normals);
+  for (std::size_t k = 0; k < rest_owned; ++k) {
+    rows.rest_positions.push_back(row(rest.positions, k));
+    rows.rest_normals.push_back(row(rest.normals, k));
+  }
+  for (std::size_t k = 0; k < plan.halo_points(); ++k) {
+    rows.rest_positions.push_back(row(halo_positions, k));
+    rows.rest_normals.push_back(row(halo_normals, k));
+  }
+  return rows;
+}
 
 pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
                                                    double mean_radius, const FilterOptions& options,
@@ -72,6 +110,13 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
     if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
       throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
     }
+    // The draw numbers the points as one process does, in 32 bits (and holds a permutation of
+    // them on rank 0).
+    if (total > std::numeric_limits<std::uint32_t>::max() - 1) {
+      throw Error(ErrorCode::invalid_argument,
+                  "cross-validation takes at most 4294967294 points, as one process; got " + std::to_string(total) +
+                      " (give sigma_f, sigma_g and the passes)");
+    }
     check_rank_cloud(comm, local);
   });
   agree.run([&] { backend = make_rank_backend(comm, options, resolved); });  // collective: a step of its own
@@ -87,43 +132,10 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
   const std::size_t all_runs = draw.folds * pnf::detail::rest_runs_per_fold();
   for (std::size_t fold = 0; fold < draw.folds; ++fold) {
     agree.check();
-    const std::size_t first = fold * draw.held, last = first + draw.held;
-    FoldRows rows;
-    rows.centre = frame.centre();
-    // This rank's held-out points in the draw's order, so that those one process nudges (the
-    // fold's first) come first here too.
-    std::vector<std::pair<std::size_t, std::size_t>> held;  // (place, owned index)
-    OwnedPoints rest;
-    for (std::size_t i = 0; i < owned.size(); ++i) {
-      if (place[i] >= first && place[i] < last) {
-        held.emplace_back(place[i], i);
-      } else {
-        rest.positions.insert(rest.positions.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
-        rest.normals.insert(rest.normals.end(), &owned.normals[3 * i], &owned.normals[3 * i] + 3);
-      }
-    }
-    std::sort(held.begin(), held.end());
-    for (const auto& [at, i] : held) {
-      rows.held_positions.push_back(row(owned.positions, i));
-      rows.held_normals.push_back(row(owned.normals, i));
-      if (at - first < pnf::detail::nudged_per_fold()) ++rows.nudged;
-    }
-    // The rest's halo: other ranks' rest points within the widest reach of any point here, which
-    // covers both this rank's rest (its passes) and its held-out points (their neighbours).
-    const std::size_t rest_owned = rest.positions.size() / 3;
+    const std::size_t first = fold * draw.held;
     HaloPlan plan;
-    std::vector<double> halo_positions, halo_normals;
-    plan.build(comm, rest, points_near(comm, rest.positions, owned.positions, reach, frame), halo_positions,
-               halo_normals);
-    for (std::size_t k = 0; k < rest_owned; ++k) {
-      rows.rest_positions.push_back(row(rest.positions, k));
-      rows.rest_normals.push_back(row(rest.normals, k));
-    }
-    for (std::size_t k = 0; k < plan.halo_points(); ++k) {
-      rows.rest_positions.push_back(row(halo_positions, k));
-      rows.rest_normals.push_back(row(halo_normals, k));
-    }
-
+    const FoldRows rows = fold_rows(comm, owned, place, first, first + draw.held, reach, frame, plan);
+    const std::size_t rest_owned = rows.rest_positions.size() - plan.halo_points();
     const CloudView view(rows.rest_positions, rows.rest_normals);
     std::vector<Vec3> rest_out(rest_owned);
     const pnf::detail::RestPassObserver* after_pass = nullptr;
