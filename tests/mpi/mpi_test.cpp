@@ -274,24 +274,24 @@ const PointCloud& jittered_crease() {
 // The one process's cross-validation, on rank 0, sent to every rank.
 pnf::detail::CrossValidation one_process_cross_validation(const PointCloud& cloud, double mean_radius) {
   pnf::detail::CrossValidation cv;
-  double values[5] = {0, 0, 0, 0, 0};
+  double values[6] = {0, 0, 0, 0, 0, 0};
   if (rank() == 0) {
     NormalFilter filter(reference_options());
     cv = pnf::detail::cross_validate(cloud, mean_radius, filter);
     values[0] = cv.params.sigma_f, values[1] = cv.params.sigma_g, values[2] = cv.params.iterations;
-    values[3] = cv.score, values[4] = double(cv.held_out);
+    values[3] = cv.score, values[4] = double(cv.held_out), values[5] = cv.input_error;
   }
-  MPI_Bcast(values, 5, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  MPI_Bcast(values, 6, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   cv.params.sigma_f = values[0], cv.params.sigma_g = values[1], cv.params.iterations = int(values[2]);
-  cv.score = values[3], cv.held_out = std::size_t(values[4]);
+  cv.score = values[3], cv.held_out = std::size_t(values[4]), cv.input_error = values[5];
   return cv;
 }
 
 // The distributed cross-validation holds out the one process's points, gives each the same
-// neighbours and sums the same scores: the same setting, and its score to rounding (the sums'
-// order differs). A held-out point missing a neighbour beyond its rank's halo, a nudged point
-// the one process does not nudge, or a rank's rest seeing a held-out point would each move the
-// score by far more.
+// neighbours and sums the same scores: the same setting, and its score and the input's error to
+// rounding (the sums' order differs). A held-out point missing a neighbour beyond its rank's
+// halo, a nudged point the one process does not nudge, or a rank's rest seeing a held-out point
+// would each move the score by far more.
 TEST(MpiAuto, CrossValidationIsTheOneProcesses) {
   const PointCloud& cloud = jittered_crease();
   // Half the mean radius keeps the grid's widest lists short (this tests the bookkeeping, not
@@ -307,7 +307,9 @@ TEST(MpiAuto, CrossValidationIsTheOneProcesses) {
     EXPECT_EQ(got.params.sigma_f, want.params.sigma_f);
     EXPECT_EQ(got.params.sigma_g, want.params.sigma_g);
     EXPECT_EQ(got.params.iterations, want.params.iterations);
-    EXPECT_NEAR(got.score, want.score, 1e-9 * want.score);
+    // Both are mean squares of about the input's error (the score a small difference of two).
+    EXPECT_NEAR(got.input_error, want.input_error, 1e-9 * want.input_error);
+    EXPECT_NEAR(got.score, want.score, 1e-9 * want.input_error);
     EXPECT_EQ(got.held_out, want.held_out);
   }
 }

@@ -18,9 +18,10 @@ namespace pnf::detail {
 
 struct CrossValidation {
   FilterParams params;  // the chosen setting: units radius, the given mean radius; stop rule off
-  // Its score (Tally::score in the source): about the input normals' mean squared error
-  // (sin^2 of the angle) plus the chosen setting's, so an upper estimate of the input's.
+  // Its estimated mean squared error (|n - truth|^2, about the angle squared in radians), and
+  // the input normals' (input_error_variance) it was estimated with.
   double score = 0;
+  double input_error = 0;
   double divergence = 0;     // how much of its own input normal a held-out point keeps (0 to 2)
   std::size_t held_out = 0;  // points scored, over all folds
   std::size_t folds = 0;     // disjoint held-out sets, each an eighth of the cloud
@@ -79,7 +80,8 @@ struct Tally {
   double distance2 = 0;   // |out - input|^2
   double divergence = 0;  // over the nudged points
   double points = 0, nudged = 0;
-  double score() const;
+  // The setting's mean squared error estimated with the input normals' mean squared error s2.
+  double estimated_error(double s2) const;
 };
 std::vector<Tally> empty_tallies();
 
@@ -89,12 +91,18 @@ using RestPassObserver = std::function<void(int pass, const std::vector<double>&
 using RestRun = std::function<void(const FilterParams& params, const RestPassObserver& after_pass,
                                    const ProgressCallback& still_wanted)>;
 
-// Adds one fold's scores at every setting to `tallies`; `runs` counts the rest's runs done of
+// Adds one fold's scores at every setting to `tallies` and one sample of the input normals'
+// error per nudged held-out point to `error_samples`; `runs` counts the rest's runs done of
 // `all_runs`, for progress.
 void score_fold(const FoldRows& fold, double mean_radius, const RestRun& run_rest, const ProgressCallback& progress,
-                std::vector<Tally>& tallies, std::size_t& runs, std::size_t all_runs);
+                std::vector<Tally>& tallies, std::vector<double>& error_samples, std::size_t& runs,
+                std::size_t all_runs);
 
-// The lowest-scoring setting.
-CrossValidation best_setting(const std::vector<Tally>& tallies, const HeldOutDraw& draw, double mean_radius);
+// The input normals' mean squared error from all folds' error samples (NaN without one).
+double input_error_variance(const std::vector<double>& samples);
+
+// The setting of the lowest estimated error.
+CrossValidation best_setting(const std::vector<Tally>& tallies, const HeldOutDraw& draw, double mean_radius,
+                             double input_error);
 
 }  // namespace pnf::detail

@@ -128,6 +128,7 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
   const double reach = pnf::detail::widest_reach_in_mean_radii() * mean_radius;
 
   std::vector<pnf::detail::Tally> tallies = pnf::detail::empty_tallies();
+  std::vector<double> error_samples;
   std::size_t runs = 0;
   const std::size_t all_runs = draw.folds * pnf::detail::rest_runs_per_fold();
   for (std::size_t fold = 0; fold < draw.folds; ++fold) {
@@ -159,13 +160,23 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
       pass = 0;
       pnf::detail::run_filter(*backend, resolved, view, MutableVec3ArrayView(rest_out), params, still_wanted, &part);
     };
-    pnf::detail::score_fold(rows, mean_radius, run_rest, progress, tallies, runs, all_runs);
+    pnf::detail::score_fold(rows, mean_radius, run_rest, progress, tallies, error_samples, runs, all_runs);
   }
   agree.check();
   static_assert(sizeof(pnf::detail::Tally) == 4 * sizeof(double), "a Tally is summed as 4 doubles");
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, tallies.data(), int(4 * tallies.size()), MPI_DOUBLE, MPI_SUM, comm),
             "MPI_Allreduce");
-  return pnf::detail::best_setting(tallies, draw, mean_radius);
+  // Every rank's error samples, for the one process's variance over all of them.
+  int mine = int(error_samples.size()), ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<int> counts(std::size_t(ranks), 0);
+  check_mpi(MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather");
+  const std::vector<int> offsets = displacements(counts);
+  std::vector<double> all_samples(std::size_t(offsets.back()) + std::size_t(counts.back()));
+  check_mpi(MPI_Allgatherv(error_samples.data(), mine, MPI_DOUBLE, all_samples.data(), counts.data(), offsets.data(),
+                           MPI_DOUBLE, comm),
+            "MPI_Allgatherv");
+  return pnf::detail::best_setting(tallies, draw, mean_radius, pnf::detail::input_error_variance(all_samples));
 }
 
 }  // namespace
