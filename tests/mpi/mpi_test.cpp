@@ -349,6 +349,29 @@ TEST(MpiAuto, BadNormalOnOneRankIsRefusedEverywhere) {
   }
 }
 
+// Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
+// process's estimate_data message) rather than a bare "too few points", also when the failing
+// slices are not rank 0's.
+TEST(MpiAuto, UnestimableCloudIsRefusedWithItsCause) {
+  PointCloud cloud;
+  for (int i = 0; i < 3000; ++i) {
+    cloud.positions.push_back({0.001 * i, 0, 0});
+    cloud.normals.push_back({0, 0, 1});
+  }
+  for (const Split& split : {Split(even), Split(all_on_last)}) {
+    const std::vector<std::size_t> first = split(cloud.size(), ranks());
+    const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+    try {
+      mpi::choose_filter_params(MPI_COMM_WORLD, CloudView(part), reference_options());
+      ADD_FAILURE() << "points on a line were estimated";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
+      EXPECT_NE(std::string(e.what()).find("no rank could estimate the data"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("on a line"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // Rank 0's progress callback cancels in the middle of the settings: every rank ends with
 // Error(cancelled), none left waiting in a halo exchange.
 TEST(MpiAuto, CancellingOnRankZeroEndsItEverywhere) {

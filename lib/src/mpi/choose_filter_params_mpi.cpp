@@ -16,15 +16,18 @@ namespace {
 
 // Each rank estimates the data on its own slice (a few hundred fitted samples each, so every
 // rank's part of the model has its say); every rank gets all the estimates and pools them
-// (pnf::pool_estimates).
+// (pnf::pool_estimates). A slice that cannot be estimated (too few points, or all on a line)
+// counts only its points; when that is every slice, each rank says why its own failed.
 DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
   DataEstimate e;
   e.points = local.size();
+  std::string why_not;
   try {
     if (local.size() > 0) e = estimate_data(local);
-  } catch (const Error&) {
-    e = DataEstimate{};  // too few points on this rank to estimate: only its points count
+  } catch (const Error& error) {
+    e = DataEstimate{};
     e.points = local.size();
+    why_not = error.what();
   }
   // Every field as a double (all of them are exact in one: counts stay far below 2^53).
   constexpr int kFields = 17;
@@ -75,9 +78,16 @@ DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
     any_samples = any_samples || p.samples > 0;
     points += p.points;
   }
-  if (!any_samples) {  // pool_estimates would refuse too; say it in the CLI's terms
-    throw Error(ErrorCode::invalid_input, "--auto: no rank has enough points to estimate the data (" +
-                                              std::to_string(ranks) + " ranks, " + std::to_string(points) + " points)");
+  if (!any_samples) {  // pool_estimates would refuse too; say it in the CLI's terms, with the cause
+    const std::string message = "--auto: no rank could estimate the data (" + std::to_string(ranks) + " ranks, " +
+                                std::to_string(points) + " points)";
+    if (!why_not.empty()) {
+      throw Error(ErrorCode::invalid_input,
+                  message + "; this rank's " + std::to_string(local.size()) + " points: " + why_not);
+    }
+    if (points == 0) throw Error(ErrorCode::invalid_input, message);
+    // A rank with points failed and throws its cause; the caller's agreement ends this rank too.
+    return DataEstimate{};
   }
   return pool_estimates(parts);
 }
