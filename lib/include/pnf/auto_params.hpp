@@ -140,8 +140,9 @@ struct AutoChoice {
 //   off on smooth curved shapes (flat faces with gentle creases or none: the lines below);
 //   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes (4 between gentle creases,
 //   crease_sharpness under 0.06, when normal_noise_deg is under 9);
-//   edges, curved faces: sigma_f min(1.6 + 5 p, 12), sigma_g 0.2 + 1.5 p, floor(1.1 / p) passes
-//     within [2, 8];
+//   edges, curved faces: sigma_f min(1.6 + 6 sqrt(p), 12), sigma_g 0.2 + 1.5 p; 8 passes when
+//     p < 0.05, else with crease_length from 3.5 (small features) floor(1.1 / p) within [2, 8],
+//     below it 4;
 //   smooth, flat: sigma_f 8, sigma_g 0.2 + 3 p (pnf's rule, not the paper's: a crease too faint
 //     to measure is kept rather than blurred), 8 passes;
 //   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
