@@ -1,5 +1,5 @@
 // The small vector geometry of pnf's C++ side (the library, the host code, the tools and the
-// benchmarks), written once: pi, dot, cross, length, unit vectors, and the angle between two directions.
+// benchmarks), written once: pi, dot, cross, length, unit vectors, tangent bases, and the angle between two directions.
 // The OpenCL kernels have their own (kernels/pnf_common.h), in the language they share with the
 // reference.
 #pragma once
@@ -25,6 +25,14 @@ inline double norm(const Vec3& v) { return std::sqrt(dot(v, v)); }
 inline Vec3 normalized(const Vec3& v) {
   const double len = norm(v);
   return {v[0] / len, v[1] / len, v[2] / len};
+}
+
+// Two unit vectors that make an orthonormal basis of the plane normal to the unit vector n.
+// The helper axis is at least 37 degrees from n, so the first cross product never nears zero.
+inline void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 helper = std::fabs(n[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  t1 = normalized(cross(n, helper));
+  t2 = cross(n, t1);
 }
 
 // The angle between two non-zero directions, in radians, 0 to pi. atan2(|a x b|, a . b) rather

@@ -97,9 +97,7 @@ struct HeldOutPasses {
     }
     for (std::size_t k = 0; k < m; ++k) {
       const Vec3 own = {input[k].x, input[k].y, input[k].z};
-      const Vec3 helper = std::fabs(own[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-      tangent[0][k] = geometry::normalized(geometry::cross(own, helper));
-      tangent[1][k] = geometry::cross(own, tangent[0][k]);
+      geometry::tangent_basis(own, tangent[0][k], tangent[1][k]);
       for (int d = 0; d < 2; ++d) {
         const Vec3& t = tangent[d][k];
         const Vec3 v = geometry::normalized({own[0] + kNudge * t[0], own[1] + kNudge * t[1], own[2] + kNudge * t[2]});
@@ -179,8 +177,8 @@ double error_sample(const Predictor& p, const SpatialIndex& index, std::size_t k
   if (near.size() < std::size_t(kErrorNeighbours)) return NAN;
   std::sort(near.begin(), near.end());
   const Vec3 own = {p.normals[k].x, p.normals[k].y, p.normals[k].z};
-  const Vec3 helper = std::fabs(own[0]) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 t1 = geometry::normalized(geometry::cross(own, helper)), t2 = geometry::cross(own, t1);
+  Vec3 t1, t2;
+  geometry::tangent_basis(own, t1, t2);
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
   Eigen::Vector3d bu = Eigen::Vector3d::Zero(), bv = Eigen::Vector3d::Zero();
   double uu = 0, vv = 0;
