@@ -239,8 +239,8 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
       } else {
         p.iterations = kFewCreasesCurvedEdgesPasses;
       }
-      why += fine_features ? ", fine features (crease length from " : ", few creases (crease length under ";
-      why += format("%g", kFineFeaturesCreaseLength) + ")";
+      why += (fine_features ? ", fine features (from " : ", few creases (under ") +
+             format("%g", kFineFeaturesCreaseLength) + " per size)";
     }
   }
   const bool feature_off = p.sigma_g >= kSigmaGOff;
