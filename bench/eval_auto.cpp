@@ -326,19 +326,19 @@ int main(int argc, char** argv) {
   std::printf("%-24s %6s %6s %6s %6s %7s %13s %13s %6s  %s\n", "case", "input", "paper", "gauss", "best", "auto",
               "best setting", "auto setting", "ratio",
               "estimate: spacing/radius, noise in spacings (true), normals deg, features %, curved %, normal error "
-              "correlation, crease length per size, normal-position coupling, crease sharpness");
+              "correlation, crease length per size, normal-position coupling, crease sharpness, normal crease length");
 
   std::vector<std::pair<Case, Outcome>> results;
   auto report = [&](Case& c, const Outcome& o) {
     const DataEstimate& e = o.choice.estimate;
     std::printf(
         "%-24s %6.2f %6.2f %6.2f %6.2f %7.2f %13s %13s %6s  %.3f, %.2f (%.2f), %.1f, %.0f, %.0f, %.2f, %.2f, %.2f, "
-        "%.3f\n",
+        "%.3f, %.2f\n",
         c.name.c_str(), o.input_rms, o.paper_rms, o.gaussian_rms, no_grid ? 0.0 : o.best.rms, o.auto_rms,
         no_grid ? "-" : setting_text(o.best).c_str(), auto_text(o).c_str(), ratio_text(o, no_grid).c_str(),
         e.area_spacing / o.mean_radius, e.position_noise_area_spacings(), c.true_noise / e.area_spacing,
         e.normal_noise_deg, 100 * e.feature_share, 100 * e.curved_share, e.normal_error_correlation, e.crease_length,
-        e.normal_position_coupling, e.crease_sharpness);
+        e.normal_position_coupling, e.crease_sharpness, e.normal_crease_length);
     std::fflush(stdout);
     c.cloud = {};
     c.truth = {};
@@ -519,6 +519,7 @@ int main(int argc, char** argv) {
           << ", \"normal_error_correlation\": " << e.normal_error_correlation
           << ", \"normal_position_coupling\": " << e.normal_position_coupling
           << ", \"crease_sharpness\": " << e.crease_sharpness
+          << ", \"normal_crease_length\": " << e.normal_crease_length
           << ", \"cross_validated\": " << (o.choice.cross_validated ? "true" : "false")
           << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
           << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"grid\": [";

@@ -275,6 +275,7 @@ void bind_results(py::module_& m) {
       .def_readonly("feature_share", &DataEstimate::feature_share)
       .def_readonly("crease_length", &DataEstimate::crease_length)
       .def_readonly("crease_sharpness", &DataEstimate::crease_sharpness)
+      .def_readonly("normal_crease_length", &DataEstimate::normal_crease_length)
       .def_readonly("curved_share", &DataEstimate::curved_share)
       .def_readonly("normal_error_correlation", &DataEstimate::normal_error_correlation)
       .def_readonly("normal_position_coupling", &DataEstimate::normal_position_coupling)

@@ -65,6 +65,44 @@ TEST(AutoCreases, GentleCreaseIsNotMadeWorse) {
   EXPECT_LT(choice.params.sigma_g, 100.0) << choice.rule;
 }
 
+// A 150-degree crease at 0.1 spacings of noise: the positions' quadrics absorb its kink (crease
+// length under 0.15, the smooth line's reading), but the PCA normals on either side of it turn
+// away from them, and the rule takes the line for gentle creases. Held-out case of issue 14:
+// before the normals were read, the smooth flat line's 8 passes gave 1.26 times the grid's best
+// at 20k points (1.20 at 100k); here the best setting of the grid there (8 / 0.25 mean radii, 2
+// passes) and the smooth line's own result are the answers to beat. A plane sampled and noised alike reads no such crease.
+TEST(AutoCreases, FaintCreaseIsSeenInTheNormalsAndKept) {
+  Crease c = make_crease(150, 20000, 0.1, 31);
+  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
+  const AutoChoice choice = choose_filter_params(c.cloud);
+  EXPECT_LT(choice.estimate.crease_length, 0.15) << "the positions see no crease: " << choice.rule;
+  EXPECT_GE(choice.estimate.normal_crease_length, 0.15) << choice.rule;
+  EXPECT_NE(choice.rule.find("faint creases"), std::string::npos) << choice.rule;
+  FilterParams best_of_grid;
+  best_of_grid.sigma_f = 8;
+  best_of_grid.sigma_g = 0.25;
+  best_of_grid.iterations = 2;
+  const double filtered = rms_line_angle(fastest_filter().run(c.cloud, choice.params).normals, c.truth);
+  const double fixed = rms_line_angle(fastest_filter().run(c.cloud, best_of_grid).normals, c.truth);
+  // The evaluation's cloud of this case came to 1.096 times its grid's best; this seed's cloud
+  // to about 1.12 (other draws of the same crease spread by a few per cent), so 1.15 here.
+  EXPECT_LT(filtered, 1.15 * fixed) << choice.rule;
+  DataEstimate unseen = choice.estimate;  // what the rule chose before it read the normals
+  unseen.normal_crease_length = 0;
+  const AutoChoice smooth = choose_filter_params(unseen);
+  const double smoothed = rms_line_angle(fastest_filter().run(c.cloud, smooth.params).normals, c.truth);
+  EXPECT_LT(filtered, 0.95 * smoothed) << choice.rule << "\n" << smooth.rule;
+  for (double noise : {0.1, 0.5}) {
+    for (int points : {20000, 100000}) {
+      Crease plane = make_crease(180, points, noise, 32);
+      plane.cloud.normals = pca16_normals(plane.cloud.positions, plane.truth);
+      const DataEstimate e = estimate_data(plane.cloud);
+      EXPECT_LT(e.normal_crease_length, 0.05) << points << " points, noise " << noise;
+      EXPECT_EQ(choose_filter_params(e).rule.find("faint"), std::string::npos) << choose_filter_params(e).rule;
+    }
+  }
+}
+
 // The same surface 4 and 20 times denser gets an equivalent choice: the same branch of the rule
 // (feature term on or off, the same passes) and sigmas within kSigmaTolerance of each other in
 // the surface's true spacings. Only estimates (no filtering), so 400k points stay quick. The
@@ -233,6 +271,7 @@ TEST(PoolEstimates, OnePartIsItselfAndPartsWithoutSamplesOnlyAddPoints) {
   EXPECT_DOUBLE_EQ(p.feature_share, e.feature_share);
   EXPECT_DOUBLE_EQ(p.normal_noise_deg, e.normal_noise_deg);
   EXPECT_DOUBLE_EQ(p.normal_position_coupling, e.normal_position_coupling);
+  EXPECT_DOUBLE_EQ(p.normal_crease_length, e.normal_crease_length);
   EXPECT_THROW(pool_estimates({empty}), Error);
 }
 

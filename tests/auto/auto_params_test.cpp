@@ -418,6 +418,29 @@ TEST(ChooseFilterParams, SmoothShapesDropTheFeatureTermOnlyWhenCurved) {
   EXPECT_GE(flat.params.sigma_f, 8.0) << flat.rule;
 }
 
+// A flat shape whose positions show too little crease but whose input normals show some (gentle
+// creases the quadrics absorb) takes the gentle creases' line: the edges' sigma_g and 4 passes.
+// Curved shapes and shapes without it keep the smooth lines.
+TEST(ChooseFilterParams, FaintCreasesInTheNormalsKeepTheGentleLine) {
+  DataEstimate faint = measured(0.1, 2, 0.02, 0);
+  faint.normal_crease_length = 0.3;
+  faint.crease_sharpness = 0;
+  const AutoChoice kept = choose_filter_params(faint);
+  const AutoChoice edges = choose_filter_params(measured(0.1, 2, 0.3, 0));
+  EXPECT_NE(kept.rule.find("faint creases"), std::string::npos) << kept.rule;
+  EXPECT_EQ(kept.params.iterations, 4) << kept.rule;
+  EXPECT_EQ(kept.params.sigma_g, edges.params.sigma_g) << kept.rule;
+  EXPECT_EQ(kept.params.sigma_f, edges.params.sigma_f) << kept.rule;
+  faint.normal_crease_length = 0.1;
+  const AutoChoice plane = choose_filter_params(faint);
+  EXPECT_NE(plane.rule.find("smooth"), std::string::npos) << plane.rule;
+  EXPECT_EQ(plane.params.iterations, 8) << plane.rule;
+  EXPECT_GT(plane.params.sigma_g, kept.params.sigma_g) << plane.rule;
+  faint.normal_crease_length = 0.3;
+  faint.curved_share = 1;
+  EXPECT_GE(choose_filter_params(faint).params.sigma_g, 1e5) << "smooth curved: " << choose_filter_params(faint).rule;
+}
+
 TEST(ChooseFilterParams, RejectsAMissingSpacing) {
   DataEstimate e;
   EXPECT_THROW(choose_filter_params(e), Error);

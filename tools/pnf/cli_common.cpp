@@ -136,8 +136,8 @@ void print_auto(const AutoChoice& choice, double seconds) {
   if (e.normal_noise_deg >= 0) {
     std::fprintf(stderr,
                  "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f, coupled to the "
-                 "positions %.2f\n",
-                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling);
+                 "positions %.2f; crease length in the normals %.2f per size\n",
+                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling, e.normal_crease_length);
   }
   std::fprintf(stderr,
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "

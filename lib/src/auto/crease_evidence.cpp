@@ -6,6 +6,12 @@
 
 namespace pnf::detail {
 
+double crease_length_per_size(double share, double fit_radius, std::size_t points, double area_spacing) {
+  if (!(fit_radius > 0) || !(area_spacing > 0)) return 0;
+  const double area = double(points) * area_spacing * area_spacing;
+  return share * area / (2 * fit_radius) / std::sqrt(area);
+}
+
 CreaseEvidence crease_evidence(const CreaseFits& fits, double edge_residual, std::size_t points, double area_spacing) {
   CreaseEvidence e;
   e.samples = fits.residuals.size();
@@ -20,9 +26,8 @@ CreaseEvidence crease_evidence(const CreaseFits& fits, double edge_residual, std
     std::nth_element(kinks.begin(), kinks.begin() + std::ptrdiff_t(kinks.size() / 2), kinks.end());
     e.sharpness = kinks[kinks.size() / 2] / fits.fit_radius;
   }
-  const double share = double(e.edge_samples) / double(e.samples);
-  const double area = double(points) * area_spacing * area_spacing;
-  e.length_per_size = share * area / (2 * fits.fit_radius) / std::sqrt(area);
+  e.length_per_size =
+      crease_length_per_size(double(e.edge_samples) / double(e.samples), fits.fit_radius, points, area_spacing);
   return e;
 }
 

@@ -30,6 +30,11 @@ struct CreaseEvidence {
   double sharpness = 0;
 };
 
+// The crease length (per the square root of the area) that a share of fits implies when the
+// fits that see a crease cover a band of 2 fit radii along it: share x area / (2 fit_radius)
+// / sqrt(area), area = points x area_spacing^2. 0 unless fit_radius and area_spacing are > 0.
+double crease_length_per_size(double share, double fit_radius, std::size_t points, double area_spacing);
+
 // `fits` at the scale where features are judged; `edge_residual` the residual above which a fit
 // is at an edge (model units); `points` and `area_spacing` (model units) of the whole cloud.
 // Preconditions: fit_radius and area_spacing > 0 (else length_per_size is 0).

@@ -11,7 +11,7 @@ namespace pnf {
 
 DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
   DataEstimate all;
-  double samples = 0, estimated_points = 0, points_weighted_radius = 0, surface_area = 0, crease = 0;
+  double samples = 0, estimated_points = 0, points_weighted_radius = 0, surface_area = 0, crease = 0, normal_crease = 0;
   double sharpness = 0, spacing = 0, noise = 0, normal_noise = 0, curved = 0, correlation = 0, coupling = 0, fit_radius = 0;
   bool normals = true;
   for (const DataEstimate& e : parts) {
@@ -39,6 +39,7 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
     const double area = double(e.points) * e.area_spacing * e.area_spacing;
     surface_area += area;
     crease += e.crease_length * std::sqrt(area);
+    normal_crease += e.normal_crease_length * std::sqrt(area);
     all.radius_source = e.radius_source;
   }
   if (!(samples > 0)) {
@@ -56,6 +57,7 @@ DataEstimate pool_estimates(const std::vector<DataEstimate>& parts) {
   all.feature_share = all.feature_samples > 0 ? double(all.edge_samples) / double(all.feature_samples) : 0;
   all.crease_sharpness = all.edge_samples > 0 ? sharpness / double(all.edge_samples) : 0;
   all.crease_length = surface_area > 0 ? crease / std::sqrt(surface_area) : 0;
+  all.normal_crease_length = !normals ? -1 : surface_area > 0 ? normal_crease / std::sqrt(surface_area) : 0;
   return all;
 }
 

@@ -30,7 +30,7 @@ DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
     why_not = error.what();
   }
   // Every field as a double (all of them are exact in one: counts stay far below 2^53).
-  constexpr int kFields = 17;
+  constexpr int kFields = 18;
   const double mine[kFields] = {double(e.points),
                                 double(e.samples),
                                 e.mean_radius,
@@ -47,7 +47,8 @@ DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
                                 e.curved_share,
                                 e.normal_error_correlation,
                                 e.normal_position_coupling,
-                                e.crease_sharpness};
+                                e.crease_sharpness,
+                                e.normal_crease_length};
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   std::vector<double> all(std::size_t(ranks) * kFields);
@@ -75,6 +76,7 @@ DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
     p.normal_error_correlation = f[14];
     p.normal_position_coupling = f[15];
     p.crease_sharpness = f[16];
+    p.normal_crease_length = f[17];
     any_samples = any_samples || p.samples > 0;
     points += p.points;
   }
