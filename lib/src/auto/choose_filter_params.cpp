@@ -65,10 +65,12 @@ constexpr double kGentleMaxNormalNoiseDeg = 9.0;
 // it, but starts narrow, since a neighbour's plane leaves a curved surface quadratically with the
 // distance: sigma_f = 1.6 + 6 sqrt(p) spacings, at most 12. Concave, as a balance of the two
 // predicts (averaged noise falls as 1 / sigma_f, the curvature's bias grows as sigma_f^2, so the
-// best sigma_f grows as p^(1/3)). Fandisk and the cylinder: 1.6 spacings clean; 3-5 at p = 0.1-0.5
+// best sigma_f grows as p^(1/3); the square root and its factor 6 were picked among variants,
+// below). Fandisk and the cylinder: 1.6 spacings clean; 3-5 at p = 0.1-0.5
 // on the cylinder, 4-8 on fandisk at 0.4 and 2 (flat optima there). A line 1.6 + 5 p, fitted to
 // fandisk alone, held until 2026-12-03; the held-out long cylinder and rounded box (issue 14)
-// wanted 3.4-4.7 spacings at p = 0.1, where it gave 2.1 (1.05-1.11 of their best).
+// wanted 3.4-4.7 spacings at p = 0.1, where it gave 2.1 (1.05-1.11 of their best). The variants
+// were tried on the tuned cylinder and fandisk with those held-out rows in view.
 constexpr double kCurvedEdgesSigmaF0 = 1.6;
 constexpr double kCurvedEdgesSigmaFPerRootNoise = 6.0;
 constexpr double kCurvedEdgesSigmaFMax = 12.0;
