@@ -77,7 +77,6 @@ constexpr double kCorrelationReachSpacings = 2.5;
 constexpr int kCouplingNeighbours = 16;
 // A quadric has 6 coefficients; ask for twice as many points for a stable residual.
 constexpr int kMinFitPoints = 12;
-// The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
 // DataEstimate::normal_crease_length: a fit sees a crease in the input normals where their mean
 // error about it (over the sample and its points within kCorrelationReachSpacings) passes this
 // many times the median of the same over all fits, and this many degrees. Averaging some 20
@@ -88,6 +87,7 @@ constexpr int kMinFitPoints = 12;
 // noise still reads 0.24-0.42 (20k-400k points).
 constexpr double kNormalCreasePerTypical = 5.0;
 constexpr double kNormalCreaseFloorDeg = 3.0;
+// The median of a Rayleigh distribution is sigma sqrt(2 ln 2) and its RMS sigma sqrt(2).
 const double kRayleighRmsPerMedian = std::sqrt(2.0) / std::sqrt(2.0 * std::log(2.0));
 
 // What estimate_data needs of a cloud: enough points for the smallest fit; normals optional and
