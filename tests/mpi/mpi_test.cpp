@@ -272,12 +272,13 @@ const PointCloud& jittered_crease() {
 }
 
 // The one process's cross-validation, on rank 0, sent to every rank.
-pnf::detail::CrossValidation one_process_cross_validation(const PointCloud& cloud, double mean_radius) {
+pnf::detail::CrossValidation one_process_cross_validation(const PointCloud& cloud, double mean_radius,
+                                                          double position_noise) {
   pnf::detail::CrossValidation cv;
   double values[6] = {0, 0, 0, 0, 0, 0};
   if (rank() == 0) {
     NormalFilter filter(reference_options());
-    cv = pnf::detail::cross_validate(cloud, mean_radius, filter);
+    cv = pnf::detail::cross_validate(cloud, mean_radius, position_noise, filter);
     values[0] = cv.params.sigma_f, values[1] = cv.params.sigma_g, values[2] = cv.params.iterations;
     values[3] = cv.score, values[4] = double(cv.held_out), values[5] = cv.input_error;
   }
@@ -297,13 +298,16 @@ TEST(MpiAuto, CrossValidationIsTheOneProcesses) {
   // Half the mean radius keeps the grid's widest lists short (this tests the bookkeeping, not
   // the choice).
   const double mean_radius = 0.5 * estimate_mean_radius(cloud.positions);
-  const pnf::detail::CrossValidation want = one_process_cross_validation(cloud, mean_radius);
+  // Non-zero, so that the error samples' correction for it is compared too.
+  const double position_noise = 0.2 * mean_radius;
+  const pnf::detail::CrossValidation want = one_process_cross_validation(cloud, mean_radius, position_noise);
   for (const Split& split : {Split(even), Split(uneven), Split(all_on_last)}) {
     const std::vector<std::size_t> first = split(cloud.size(), ranks());
     const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
     const mpi::detail::Agreement agree(MPI_COMM_WORLD);
     const pnf::detail::CrossValidation got =
-        mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), mean_radius, reference_options(), {});
+        mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), mean_radius, position_noise,
+                                    reference_options(), {});
     EXPECT_EQ(got.params.sigma_f, want.params.sigma_f);
     EXPECT_EQ(got.params.sigma_g, want.params.sigma_g);
     EXPECT_EQ(got.params.iterations, want.params.iterations);
@@ -337,7 +341,7 @@ TEST(MpiAuto, BadNormalOnOneRankIsRefusedEverywhere) {
   const PointCloud part = slice(cloud, begin, first[std::size_t(rank()) + 1]);
   const mpi::detail::Agreement agree(MPI_COMM_WORLD);
   try {
-    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 1.0, reference_options(), {});
+    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 1.0, 0.0, reference_options(), {});
     ADD_FAILURE() << "a NaN normal was cross-validated";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
@@ -383,7 +387,7 @@ TEST(MpiAuto, CancellingOnRankZeroEndsItEverywhere) {
   const ProgressCallback progress = [&](const PassProgress&) { return ++calls < 5; };
   try {
     mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 0.5 * estimate_mean_radius(cloud.positions),
-                                reference_options(), rank() == 0 ? progress : ProgressCallback{});
+                                0.0, reference_options(), rank() == 0 ? progress : ProgressCallback{});
     ADD_FAILURE() << "not cancelled";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();

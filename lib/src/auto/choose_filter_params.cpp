@@ -317,7 +317,8 @@ AutoChoice detail::with_cross_validation(const AutoChoice& choice, const CrossVa
 AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
                                  const ProgressCallback& progress) {
   return detail::with_cross_validation(
-      choice, detail::cross_validate(cloud, choice.estimate.mean_radius, filter, progress));
+      choice, detail::cross_validate(cloud, choice.estimate.mean_radius, choice.estimate.position_noise, filter,
+                                     progress));
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {

@@ -22,6 +22,7 @@ struct CrossValidation {
   // the input normals' (input_error_variance) it was estimated with.
   double score = 0;
   double input_error = 0;
+  double measured_input_error = 0;  // input_error_variance of the samples (NaN without one)
   double divergence = 0;     // how much of its own input normal a held-out point keeps (0 to 2)
   std::size_t held_out = 0;  // points scored, over all folds
   std::size_t folds = 0;     // disjoint held-out sets, each an eighth of the cloud
@@ -38,8 +39,8 @@ struct CrossValidation {
 // Grid (setting_grid.hpp, pnf_eval_auto's too): sigma_f 2, 4, 8 and sigma_g 0.25, 0.5, 1, 2, off
 // mean radii; 1, 2, 4, 8 passes. Needs cross_validation_min_points() points with normals; progress is told the share
 // of settings done (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)).
-CrossValidation cross_validate(const CloudView& cloud, double mean_radius, NormalFilter& filter,
-                               const ProgressCallback& progress = {});
+CrossValidation cross_validate(const CloudView& cloud, double mean_radius, double position_noise,
+                               NormalFilter& filter, const ProgressCallback& progress = {});
 
 // The fewest points cross_validate takes.
 std::size_t cross_validation_min_points();
@@ -73,6 +74,9 @@ struct FoldRows {
   // run's halo after its own).
   std::vector<Vec3> rest_positions, rest_normals;
   Vec3 centre = {0, 0, 0};  // subtracted from every position (the cloud's bounding-box centre)
+  // The positions' noise per axis in model units (DataEstimate::position_noise), for the error
+  // samples (their tilt of curved faces' normals is not the input normals' error).
+  double position_noise = 0;
 };
 
 // One setting's sums over the held-out points (all doubles, so that processes can add them up).

@@ -122,7 +122,7 @@ AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, co
   agree.run([&] { choice = choose_filter_params(estimate); });
   if (!needs_cross_validation(choice)) return choice;
   return pnf::detail::with_cross_validation(choice,
-                                            detail::cross_validate(comm, agree, local, mean_radius, options,
+                                            detail::cross_validate(comm, agree, local, mean_radius, estimate.position_noise, options,
                                                                    agree.rank() == 0 ? progress : ProgressCallback{}));
 }
 

@@ -95,8 +95,8 @@ FoldRows fold_rows(MPI_Comm comm, const OwnedPoints& owned, const std::vector<st
 }
 
 pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
-                                                   double mean_radius, const FilterOptions& options,
-                                                   const ProgressCallback& progress) {
+                                                   double mean_radius, double position_noise,
+                                                   const FilterOptions& options, const ProgressCallback& progress) {
   unsigned long long total = local.size();
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm), "MPI_Allreduce");
   FilterOptions resolved;
@@ -109,6 +109,9 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
     }
     if (!(mean_radius > 0) || !std::isfinite(mean_radius)) {
       throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
+    }
+    if (!(position_noise >= 0) || !std::isfinite(position_noise)) {
+      throw Error(ErrorCode::invalid_argument, "cross-validation needs a position noise >= 0");
     }
     // The draw numbers the points as one process does, in 32 bits (and holds a permutation of
     // them on rank 0).
@@ -135,7 +138,8 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
     agree.check();
     const std::size_t first = fold * draw.held;
     HaloPlan plan;
-    const FoldRows rows = fold_rows(comm, owned, place, first, first + draw.held, reach, frame, plan);
+    FoldRows rows = fold_rows(comm, owned, place, first, first + draw.held, reach, frame, plan);
+    rows.position_noise = position_noise;
     const std::size_t rest_owned = rows.rest_positions.size() - plan.halo_points();
     const CloudView view(rows.rest_positions, rows.rest_normals);
     std::vector<Vec3> rest_out(rest_owned);
@@ -182,12 +186,12 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
 }  // namespace
 
 pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
-                                            double mean_radius, const FilterOptions& options,
+                                            double mean_radius, double position_noise, const FilterOptions& options,
                                             const ProgressCallback& progress) {
   // A rank that fails between the agreed steps (in its held-out passes, or rank 0 cancelling)
   // meets the others' next check here.
   pnf::detail::CrossValidation cv;
-  agree.run([&] { cv = agreed_cross_validate(comm, agree, local, mean_radius, options, progress); });
+  agree.run([&] { cv = agreed_cross_validate(comm, agree, local, mean_radius, position_noise, options, progress); });
   return cv;
 }
 

@@ -21,7 +21,7 @@ namespace pnf::mpi::detail {
 // progress cancelling) ends it on every rank: all throw AgreedError with the failing rank's
 // message. `progress` is called on rank 0 only.
 pnf::detail::CrossValidation cross_validate(MPI_Comm comm, const Agreement& agree, const CloudView& local,
-                                            double mean_radius, const FilterOptions& options,
+                                            double mean_radius, double position_noise, const FilterOptions& options,
                                             const ProgressCallback& progress);
 
 }  // namespace pnf::mpi::detail
