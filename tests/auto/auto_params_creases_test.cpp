@@ -65,6 +65,27 @@ TEST(AutoCreases, GentleCreaseIsNotMadeWorse) {
   EXPECT_LT(choice.params.sigma_g, 100.0) << choice.rule;
 }
 
+// A 120-degree crease at 0.1 spacings of noise, 20k points, PCA normals: the held-out case of
+// issue 14 that stayed 1.11 times its grid's best while sigma_g followed 0.2 + 1.5 p (0.35
+// spacings, which let the gentle crease blur); the noise's spread in quadrature with the clean
+// width gives 0.28 (1.06 on the evaluation's cloud). The answer to beat is the grid's best there
+// (8 / 0.25 mean radii, 4 passes).
+TEST(AutoCreases, GentleCreaseAtLowNoiseGetsANarrowSigmaG) {
+  Crease c = make_crease(120, 20000, 0.1, 33);
+  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
+  const AutoChoice choice = choose_filter_params(c.cloud);
+  EXPECT_NE(choice.rule.find("gentle creases"), std::string::npos) << choice.rule;
+  FilterParams best_of_grid;
+  best_of_grid.sigma_f = 8;
+  best_of_grid.sigma_g = 0.25;
+  best_of_grid.iterations = 4;
+  const double filtered = rms_line_angle(fastest_filter().run(c.cloud, choice.params).normals, c.truth);
+  const double fixed = rms_line_angle(fastest_filter().run(c.cloud, best_of_grid).normals, c.truth);
+  // This seed's cloud: 1.009 with the quadrature, 1.046 with the line (the evaluation's: 1.056
+  // and 1.113); the bound sits between the two, so that the line's return would fail it.
+  EXPECT_LT(filtered, 1.03 * fixed) << choice.rule;
+}
+
 // A 150-degree crease at 0.1 spacings of noise: the positions' quadrics absorb its kink (crease
 // length under 0.15, the smooth line's reading), but the PCA normals on either side of it turn
 // away from them, and the rule takes the line for gentle creases. Held-out case of issue 14:
@@ -108,10 +129,10 @@ TEST(AutoCreases, FaintCreaseIsSeenInTheNormalsAndKept) {
 // the surface's true spacings. Only estimates (no filtering), so 400k points stay quick. The
 // normals are the truth jittered by 5 degrees: they only steer the rule on smooth curved shapes.
 TEST(AutoCreases, ChoiceDoesNotDependOnTheSamplingDensity) {
-  // The sigmas follow the noise estimate (sigma_g = 0.2 + 1.5 p), which is good to about 10% at
-  // these densities (EstimateData tests: within 25% across noise levels); 20% between any two
-  // densities leaves room for that and still tells the branches apart (6.5 against 8 spacings,
-  // 0.35 against 1e6).
+  // The sigmas follow the noise estimate (sigma_g = min(0.2 + 1.5 p, sqrt(0.2^2 + (2 p)^2))),
+  // which is good to about 10% at these densities (EstimateData tests: within 25% across noise
+  // levels); 20% between any two densities leaves room for that and still tells the branches
+  // apart (6.5 against 8 spacings, 0.28 against 1e6).
   constexpr double kSigmaTolerance = 0.2;
   struct Shape {
     double degrees, noise;

@@ -140,23 +140,23 @@ struct AutoChoice {
 // (then converted to mean radii: times area_spacing / mean_radius), "edges" meaning
 // crease_length >= 0.15 (not a share of the samples, which falls as the density grows), or on a
 // flat shape normal_crease_length >= 0.15 (faint creases: then as flat faces between gentle
-// creases), and "curved" curved_share >= 15%:
+// creases), "curved" curved_share >= 15%, and g(p) = min(0.2 + 1.5 p, sqrt(0.2^2 + (2 p)^2)):
 //   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
 //   input normals whose errors are independent of the positions (normal_position_coupling and
 //   normal_error_correlation both under 0.35) on noisy positions (p >= 0.05), on curved shapes
 //   or flat faces between sharp creases (crease_sharpness from 0.06): one pass (two from
 //   normal_noise_deg 9 up), sigma_f 4 and sigma_g 2 with edges, sigma_f 8 and the feature term
 //   off on smooth curved shapes (flat faces with gentle creases or none: the lines below);
-//   edges, flat faces: sigma_f 6.5, sigma_g 0.2 + 1.5 p, 8 passes (4 between gentle creases,
+//   edges, flat faces: sigma_f 6.5, sigma_g g(p), 8 passes (4 between gentle creases,
 //   crease_sharpness under 0.06, when normal_noise_deg is under 9);
-//   edges, curved faces: sigma_f min(1.6 + 6 sqrt(p), 12), sigma_g 0.2 + 1.5 p; 8 passes when
+//   edges, curved faces: sigma_f min(1.6 + 6 sqrt(p), 12), sigma_g g(p); 8 passes when
 //     p < 0.05, else with crease_length from 3.5 (small features) floor(1.1 / p) within [2, 8],
 //     below it 4;
 //   smooth, flat: sigma_f 8, sigma_g 0.2 + 3 p (pnf's rule, not the paper's: a crease too faint
 //     to measure is kept rather than blurred), 8 passes;
 //   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
 //     normal_noise_deg < 0.6; when p < 0.05 and normal_error_correlation >= 0.2 instead sigma_f
-//     3.3, sigma_g 0.2 + 1.5 p, 1 pass (the clean positions re-derive already-smoothed normals);
+//     3.3, sigma_g g(p), 1 pass (the clean positions re-derive already-smoothed normals);
 //     else 1 pass when normal_noise_deg < 3, else 2 (also without normals);
 //   always: stop_change_deg 0.01 (passes end once the normals move less on average).
 // The constants and their reasons are in choose_filter_params.cpp. Throws
