@@ -36,6 +36,8 @@ struct CrossValidation {
 // normals, against how much of that input they keep, ranks the settings as their true errors
 // would (Stein's unbiased risk estimate, the input's error eliminated: see the source), without
 // knowing the truth or the size of the input's error.
+// position_noise (per axis, model units: DataEstimate::position_noise, >= 0) corrects the measured
+// input error for the tilt that noisy positions give curved faces' normals (see the source).
 // Grid (setting_grid.hpp, pnf_eval_auto's too): sigma_f 2, 4, 8 and sigma_g 0.25, 0.5, 1, 2, off
 // mean radii; 1, 2, 4, 8 passes. Needs cross_validation_min_points() points with normals; progress is told the share
 // of settings done (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)).
