@@ -98,7 +98,8 @@ TEST(CrossValidation, OnAPlaneTheInputsErrorIsMeasuredAndRemoved) {
     for (int k = 0; k < 3; ++k) input_mse += std::pow(c.cloud.normals[i][k] - c.truth[i][k], 2);
   }
   input_mse /= double(c.truth.size());
-  const detail::CrossValidation cv = detail::cross_validate(c.cloud, std::sqrt(2.0 / 12000) / 1.2, 0.0, fastest_filter());
+  const detail::CrossValidation cv =
+      detail::cross_validate(c.cloud, std::sqrt(2.0 / 12000) / 1.2, 0.0, fastest_filter());
   EXPECT_EQ(cv.settings, 60u);
   EXPECT_EQ(cv.folds, 4u) << "12000 points: an eighth is 1500, four folds to score 6000";
   EXPECT_EQ(cv.held_out, 6000u);

@@ -378,8 +378,8 @@ CrossValidation best_setting(const std::vector<Tally>& tallies, const HeldOutDra
   return best;
 }
 
-CrossValidation cross_validate(const CloudView& cloud, double mean_radius, double position_noise,
-                               NormalFilter& filter, const ProgressCallback& progress) {
+CrossValidation cross_validate(const CloudView& cloud, double mean_radius, double position_noise, NormalFilter& filter,
+                               const ProgressCallback& progress) {
   const std::size_t n = cloud.size();
   if (n < kMinPoints || cloud.normals.count != n) {
     throw Error(ErrorCode::invalid_argument, "cross-validation needs " + std::to_string(kMinPoints) +
@@ -392,7 +392,8 @@ CrossValidation cross_validate(const CloudView& cloud, double mean_radius, doubl
     throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
   }
   if (!(position_noise >= 0) || !std::isfinite(position_noise)) {
-    throw Error(ErrorCode::invalid_argument, "cross-validation needs a position noise >= 0");
+    throw Error(ErrorCode::invalid_argument,
+                "cross-validation needs a position noise >= 0 and finite, got " + std::to_string(position_noise));
   }
   const HeldOutDraw draw = draw_held_out(n);
   std::vector<bool> held_out(n);

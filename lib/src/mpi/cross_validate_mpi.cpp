@@ -111,7 +111,8 @@ pnf::detail::CrossValidation agreed_cross_validate(MPI_Comm comm, const Agreemen
       throw Error(ErrorCode::invalid_argument, "cross-validation needs a mean radius > 0");
     }
     if (!(position_noise >= 0) || !std::isfinite(position_noise)) {
-      throw Error(ErrorCode::invalid_argument, "cross-validation needs a position noise >= 0");
+      throw Error(ErrorCode::invalid_argument,
+                  "cross-validation needs a position noise >= 0 and finite, got " + std::to_string(position_noise));
     }
     // The draw numbers the points as one process does, in 32 bits (and holds a permutation of
     // them on rank 0).
