@@ -22,9 +22,8 @@
 // averaging (the paper's sigma_f and passes, the feature term off), and above --full-grid-points
 // against a coarse grid. --estimate-only prints the estimates and choices without filtering.
 //
-// "auto" is what `pnf filter --auto` runs: choose_filter_params(cloud, filter), the rule, and for
-// input normals with independent errors its cross-validation on the same filter (docs/auto.md);
-// the JSON says which (cross_validated) and how long the choice took (choose_seconds).
+// "auto" is what `pnf filter --auto` runs: improve_normals_auto, the rule and its judged passes
+// (docs/auto.md); auto_seconds is the whole run, the choice included.
 //
 // Prints a table and a summary against the targets (never worse than the input, within 10% of the
 // grid's best), and with --json a file for bench/plot_auto.py and --grid-from.
@@ -191,14 +190,15 @@ Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vect
     o.grid.push_back({params.sigma_f, sigma_g, params.iterations, rms});
     note(o.grid.back());
   }
+  // The whole --auto run: the choice and its judged passes (improve_normals_auto).
   auto t = std::chrono::steady_clock::now();
-  o.choice = choose_filter_params(c.cloud, filter);
-  o.estimate_seconds = seconds_since(t);
-  t = std::chrono::steady_clock::now();
-  FilterResult r = filter.run(c.cloud, o.choice.params);
+  std::vector<Vec3> normals(c.cloud.size());
+  const AutoRun run = improve_normals_auto(c.cloud, MutableVec3ArrayView(normals), filter);
+  o.choice = run.choice;
+  o.estimate_seconds = 0;
   o.auto_seconds = seconds_since(t);
-  o.auto_passes = r.summary.passes_run;
-  o.auto_rms = rms_line_angle(r.normals, c.truth);
+  o.auto_passes = run.passes_kept;
+  o.auto_rms = rms_line_angle(normals, c.truth);
   return o;
 }
 

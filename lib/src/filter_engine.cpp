@@ -188,6 +188,7 @@ void idle_passes(const DistributedPart& part, const FilterParams& params, const 
       summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / totals[1] : 0.0);
       if (summary.mean_change_deg.back() < params.stop_change_deg) break;
     }
+    if (part.ends_passes && part.ends_passes()) break;
   }
 }
 
@@ -368,6 +369,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
           if (summary.mean_change_deg.back() < params.stop_change_deg) break;
           previous.swap(current);
         }
+        if (part && part->ends_passes && part->ends_passes()) break;
       }
       break;
     } catch (const DeviceMemoryError& e) {

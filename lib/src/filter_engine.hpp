@@ -22,6 +22,9 @@ struct DistributedPart {
   // Sums values over every process (the stop rule's change and its point count), so every
   // process takes the same decision. Identity when empty.
   std::function<void(double* values, int count)> sum_over_processes;
+  // Asked after every pass's exchange (and stop rule): true ends the passes there, as the stop
+  // rule does. In a distributed run every process must answer alike (from summed figures).
+  std::function<bool()> ends_passes;
 };
 
 // NormalFilter::run on `backend` (see normal_filter.hpp for the contract). When the backend

@@ -66,13 +66,15 @@ NormalFilter detail::FilterFactory::with_lanes(const FilterOptions& options, int
 
 FilterSummary detail::FilterFactory::run_observed(NormalFilter& filter, const CloudView& cloud,
                                                   MutableVec3ArrayView normals_out, const FilterParams& params,
-                                                  const PassObserver& after_pass, const ProgressCallback& progress) {
+                                                  const PassObserver& after_pass, const ProgressCallback& progress,
+                                                  const std::function<bool()>& enough) {
   // A distributed part that owns every point: its halo exchange, called after each pass with the
   // new normals and with no halo to fill, is the observer.
   int pass = 0;
   DistributedPart whole;
   whole.owned = cloud.size();
   whole.exchange_halo = [&](const std::vector<double>& normals, std::vector<double>&) { after_pass(++pass, normals); };
+  whole.ends_passes = enough;
   return run_filter(*filter.impl_->backend, filter.impl_->options, cloud, normals_out, params, progress, &whole);
 }
 

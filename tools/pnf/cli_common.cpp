@@ -147,6 +147,7 @@ void print_auto(const AutoChoice& choice, double seconds) {
   if (choice.cross_validated)
     std::fprintf(stderr, "  rule would take  %s\n", choice.rule_before_cross_validation.c_str());
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
+  if (!choice.judged.empty()) std::fprintf(stderr, "  passes           %s\n", choice.judged.c_str());
 }
 
 }  // namespace pnf::cli

@@ -102,16 +102,21 @@ int run_filter(const FilterFlags& flags) {
     options.max_seconds = flags.max_seconds;
     options.validate();
     NormalFilter filter(options);
+    FilterResult result;
     if (flags.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
-      // Input normals with independent errors are cross-validated on the filter.
-      const AutoChoice choice = choose_filter_params(cloud, filter, progress_bar(flags.quiet));
-      params = choice.params;
-      // An explicit --stop-change (0 included: off) wins over the rule's.
-      if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
-      if (!flags.quiet) print_auto(choice, seconds_since(t_auto));
+      // The choice (cross-validated for input normals with independent errors), then its passes,
+      // each judged against the surface fitted to the positions; an explicit --stop-change (0
+      // included: off) wins over the rule's.
+      result.normals.resize(cloud.size());
+      AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(result.normals), filter,
+                                         progress_bar(flags.quiet), flags.stop_change);
+      params = run.choice.params;
+      result.summary = run.summary;
+      if (!flags.quiet) print_auto(run.choice, seconds_since(t_auto));
+    } else {
+      result = filter.run(cloud, params, progress_bar(flags.quiet));
     }
-    FilterResult result = filter.run(cloud, params, progress_bar(flags.quiet));
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);

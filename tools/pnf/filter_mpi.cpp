@@ -134,18 +134,20 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
     MPI_Allreduce(MPI_IN_PLACE, &read_s, 1, MPI_DOUBLE, MPI_MAX, comm);
 
     stage = Stage::running;
+    std::vector<Vec3> normals(local.size());
+    const ProgressCallback progress = rank == 0 ? progress_bar(run.quiet) : ProgressCallback{};
+    mpi::DistributedSummary summary;
     if (run.automatic) {
       const auto t_auto = Clock::now();
       // Collective, agreeing on failures itself (AgreedError on every rank).
-      const AutoChoice choice =
-          mpi::choose_filter_params(comm, local, run.options, rank == 0 ? progress_bar(run.quiet) : ProgressCallback{});
-      params = choice.params;
-      if (run.stop_change >= 0) params.stop_change_deg = run.stop_change;
-      if (rank == 0 && !run.quiet) print_auto(choice, seconds_since(t_auto));
+      const mpi::DistributedAutoRun judged =
+          mpi::improve_normals_auto(comm, local, normals, run.options, progress, run.stop_change);
+      params = judged.choice.params;
+      summary = judged.summary;
+      if (rank == 0 && !run.quiet) print_auto(judged.choice, seconds_since(t_auto));
+    } else {
+      summary = mpi::improve_normals(comm, local, normals, params, run.options, progress);
     }
-    std::vector<Vec3> normals(local.size());
-    const mpi::DistributedSummary summary = mpi::improve_normals(
-        comm, local, normals, params, run.options, rank == 0 ? progress_bar(run.quiet) : ProgressCallback{});
 
     stage = Stage::writing;
     t = Clock::now();

@@ -134,6 +134,8 @@ struct AutoChoice {
   // Where cross_validated: the rule's own line, which cross-validation replaced (what the rule
   // alone would have taken); empty otherwise.
   std::string rule_before_cross_validation;
+  // Where improve_normals_auto judged the passes (below): what the judge measured and kept.
+  std::string judged;
 };
 
 // The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings
@@ -191,5 +193,27 @@ AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choic
 // What `pnf filter --auto` uses: estimate_data, the rule, and cross_validate_choice where
 // needs_cross_validation says so (the filter is used only then).
 AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress = {});
+
+// What improve_normals_auto did.
+struct AutoRun {
+  // The choice, with params.iterations the passes kept (0: the input normals were kept).
+  AutoChoice choice;
+  FilterSummary summary;  // the filter's run (passes_run: the passes tried)
+  int passes_kept = 0;
+  // The judge's RMS angle (degrees) to the surface fitted to the positions, of the input normals
+  // and after each pass; empty when no pass ran or no fit was smooth enough to judge.
+  std::vector<double> judged_rms_deg;
+};
+
+// `pnf filter --auto` in one call: choose_filter_params(cloud, filter, progress), then the chosen
+// passes, each judged against the normals of local quadric fits to the positions (a jet fit of
+// order 2, without the input normals) at the samples where the fit is smooth; the pass whose
+// normals agree best with them is kept, and the input normals (normalised) when none beats them,
+// so on the judged parts of the surface --auto never returns normals further from the positions'
+// surface than its input (docs/auto.md). Writes N unit normals into normals_out (N rows; it may
+// be the cloud's own normals view). A stop_change_deg >= 0 replaces the rule's stop rule (0: off).
+// Throws as choose_filter_params and NormalFilter::run do.
+AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
+                             const ProgressCallback& progress = {}, double stop_change_deg = -1);
 
 }  // namespace pnf

@@ -72,4 +72,23 @@ DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, Mutabl
 AutoChoice choose_filter_params(MPI_Comm comm, const CloudView& local, const FilterOptions& options = {},
                                 const ProgressCallback& progress = {});
 
+// What improve_normals_auto across the ranks did: the same on every rank but summary.local.
+struct DistributedAutoRun {
+  AutoChoice choice;  // params.iterations: the passes kept (0: the input normals were kept)
+  DistributedSummary summary;
+  int passes_kept = 0;
+  std::vector<double> judged_rms_deg;  // the judge's RMS after each pass, all settings tried
+};
+
+// `pnf filter --auto` across the ranks, as one process's improve_normals_auto (pnf/auto_params.hpp)
+// does it: the rule on the pooled estimate (as choose_filter_params above, without the
+// cross-validation), then the passes, judged on every rank's samples against its own points and
+// halo, the ranks' sums added, so all ranks keep the same pass. Writes this rank's N_r unit
+// normals. Numbers can differ slightly from one process's (the pooled estimate and the judge's
+// samples are per rank; docs/mpi.md). A stop_change_deg >= 0 replaces the rule's stop rule.
+// Collective; throws as improve_normals does.
+DistributedAutoRun improve_normals_auto(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
+                                        const FilterOptions& options = {}, const ProgressCallback& progress = {},
+                                        double stop_change_deg = -1);
+
 }  // namespace pnf::mpi

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cross_validate.hpp"
+#include "judged_passes.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
 
@@ -176,6 +177,16 @@ double edge_sigma_g(double p) {
   return std::min(kSigmaG0 + kSigmaGPerNoise * p, std::hypot(kSigmaG0, kSigmaGPerNoiseInQuadrature * p));
 }
 
+// The line for input normals whose errors are independent of the positions (sigmas in area
+// spacings): a wide sigma_g on shapes with edges or curved faces, plain averaging on smooth
+// curved ones; flat shapes with gentle creases or none keep the lines for PCA normals.
+void independent_errors_line(const DataEstimate& estimate, FilterParams& p) {
+  const bool smooth = estimate.crease_length < kEdgesCreaseLength;
+  p.iterations = estimate.normal_noise_deg < kIndependentOnePassDeg ? 1 : 2;
+  p.sigma_f = smooth ? kSmoothSigmaF : kIndependentEdgesSigmaF;  // smooth here is smooth and curved
+  p.sigma_g = smooth ? kSigmaGOff : kIndependentSigmaG;
+}
+
 std::string format(const char* pattern, double value) {
   char text[64];
   std::snprintf(text, sizeof text, pattern, value);
@@ -222,9 +233,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
     why += ", normal errors independent of the positions (coupling " +
            format("%.2f", estimate.normal_position_coupling) + ", correlation " +
            format("%.2f", estimate.normal_error_correlation) + ")";
-    p.iterations = normal_noise < kIndependentOnePassDeg ? 1 : 2;
-    p.sigma_f = smooth ? kSmoothSigmaF : kIndependentEdgesSigmaF;  // smooth here is smooth and curved
-    p.sigma_g = smooth ? kSigmaGOff : kIndependentSigmaG;
+    independent_errors_line(estimate, p);
   } else if (smooth) {
     p.sigma_f = kSmoothSigmaF;
     p.sigma_g = kSigmaGOff;
@@ -291,6 +300,19 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   }
   choice.rule = rule.str();
   return choice;
+}
+
+FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
+  const DataEstimate& e = choice.estimate;
+  FilterParams p = choice.params;
+  const bool curved = e.curved_share >= kCurvedShare;
+  const bool flat_gentle = !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
+  if (flat_gentle || e.position_noise_area_spacings() > kFeatureOffNoise) return p;
+  independent_errors_line(e, p);
+  const double mean_radii_per_area_spacing = e.area_spacing / e.mean_radius;
+  p.sigma_f *= mean_radii_per_area_spacing;
+  p.sigma_g *= mean_radii_per_area_spacing;
+  return p;
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }

@@ -19,6 +19,7 @@
 #include "pnf/error.hpp"
 #include "spatial/spatial_index.hpp"
 #include "spatial/spatial_order.hpp"
+#include "surface_judge.hpp"
 
 namespace pnf {
 namespace {
@@ -271,7 +272,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
 
 }  // namespace
 
-DataEstimate estimate_data(const CloudView& cloud) {
+DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge) {
   detail::check_cloud(cloud, estimate_requirements());
   const std::size_t count = cloud.size();
   // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
@@ -388,6 +389,10 @@ DataEstimate estimate_data(const CloudView& cloud) {
     curved += f.curvature * estimate.area_spacing > kCurvedPerSpacing;
   }
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
+  if (judge) {
+    const detail::JudgeGeometry g = detail::judge_geometry(estimate);
+    *judge = detail::SurfaceJudge(index, g.samples, g.neighbours, g.width);
+  }
   if (cloud.has_normals()) {
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
     const double turned_deg =
@@ -420,6 +425,19 @@ DataEstimate estimate_data(const CloudView& cloud) {
     estimate.normal_position_coupling = scale > 0 ? coupling / scale : 0;
   }
   return estimate;
+}
+
+DataEstimate estimate_data(const CloudView& cloud) { return detail::estimate_data(cloud, nullptr); }
+
+detail::JudgeGeometry detail::judge_geometry(const DataEstimate& estimate) {
+  JudgeGeometry g;
+  // The noise scale's neighbourhoods, as many samples as estimate_data fits there; a width that
+  // holds a sheet's own points: the clean floor's residual (the quadric's third-order terms) and
+  // the residual an edge fit is told by (kEdgeResidualPerNoise times the noise), in quadrature.
+  g.neighbours = estimate.fit_neighbours + 1;  // the sample too
+  g.samples = std::min(kMaxSamples, kMaxLookupsPerScale / std::size_t(std::max(g.neighbours, 1)));
+  g.width = std::hypot(kResidualFloorPerSpacing * estimate.area_spacing, kEdgeResidualPerNoise * estimate.position_noise);
+  return g;
 }
 
 }  // namespace pnf

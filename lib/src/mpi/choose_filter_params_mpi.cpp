@@ -6,6 +6,7 @@
 #include "agreement.hpp"
 #include "cross_validate_mpi.hpp"
 #include "mean_radius_mpi.hpp"
+#include "judged_run.hpp"
 #include "own_comm.hpp"
 #include "partition.hpp"
 #include "pnf/auto_params.hpp"
@@ -106,11 +107,7 @@ double one_process_mean_radius(MPI_Comm comm, const CloudView& local, RadiusSour
 
 }  // namespace
 
-AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, const FilterOptions& options,
-                                const ProgressCallback& progress) {
-  detail::OwnComm own_comm(caller_comm);
-  const MPI_Comm comm = own_comm.get();
-  const detail::Agreement agree(comm);
+AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const CloudView& local) {
   DataEstimate estimate;
   agree.run([&] { estimate = pooled_estimate(comm, local); });
   RadiusSource source = RadiusSource::not_used;
@@ -120,10 +117,20 @@ AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, co
   estimate.radius_source = source;
   AutoChoice choice;
   agree.run([&] { choice = choose_filter_params(estimate); });
+  return choice;
+}
+
+AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, const FilterOptions& options,
+                                const ProgressCallback& progress) {
+  detail::OwnComm own_comm(caller_comm);
+  const MPI_Comm comm = own_comm.get();
+  const detail::Agreement agree(comm);
+  const AutoChoice choice = detail::rule_choice(comm, agree, local);
   if (!needs_cross_validation(choice)) return choice;
-  return pnf::detail::with_cross_validation(choice,
-                                            detail::cross_validate(comm, agree, local, mean_radius, estimate.position_noise, options,
-                                                                   agree.rank() == 0 ? progress : ProgressCallback{}));
+  const DataEstimate& estimate = choice.estimate;
+  return pnf::detail::with_cross_validation(
+      choice, detail::cross_validate(comm, agree, local, estimate.mean_radius, estimate.position_noise, options,
+                                     agree.rank() == 0 ? progress : ProgressCallback{}));
 }
 
 }  // namespace pnf::mpi

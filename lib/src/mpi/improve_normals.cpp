@@ -4,20 +4,79 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 
 #include "agreement.hpp"
 #include "device_choice.hpp"
 #include "filter_engine.hpp"
 #include "halo.hpp"
+#include "geometry.hpp"
+#include "judged_run.hpp"
 #include "mean_radius_mpi.hpp"
 #include "own_comm.hpp"
 #include "partition.hpp"
 #include "pnf_common.h"
 #include "rank_cloud_check.hpp"
+#include "spatial/spatial_index.hpp"
 
 namespace pnf::mpi {
 namespace {
+
+// A distributed run's judged passes (improve_normals_auto across ranks): each rank judges the
+// samples among its own points, against its points and halo, and the ranks' sums are added, so
+// every rank sees the same RMS and takes the same decisions. Each keeps its own points' normals
+// of the best pass so far (the input first).
+class JudgedPasses {
+ public:
+  JudgedPasses(MPI_Comm comm, detail::PassJudging& judging, const CloudView& view, std::size_t owned,
+               std::size_t total)
+      : comm_(comm), judging_(judging), owned_(owned) {
+    std::vector<double> positions(3 * view.size());
+    for (std::size_t i = 0; i < view.size(); ++i) {
+      const Vec3 p = view.positions.at(i);
+      for (int c = 0; c < 3; ++c) positions[3 * i + c] = p[c];
+    }
+    const std::size_t samples =
+        total > 0 ? (judging.geometry.samples * owned + total - 1) / total : 0;  // this rank's share
+    const pnf::detail::SpatialIndex index(std::move(positions), pnf::detail::SpatialIndex::Layout::any_order);
+    judge_ = pnf::detail::SurfaceJudge(index, samples, judging.geometry.neighbours, judging.geometry.width, owned);
+    best_.resize(3 * owned);
+    for (std::size_t i = 0; i < owned; ++i) {
+      const Vec3 v = view.normals.at(i);
+      const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
+    }
+    judging_.rms_by_pass.assign(1, summed_rms(best_));
+    judging_.best_pass = 0;
+  }
+
+  void after_pass(const std::vector<double>& owned_normals) {
+    const double rms = summed_rms(owned_normals);
+    judging_.rms_by_pass.push_back(rms);
+    if (rms < judging_.rms_by_pass[std::size_t(judging_.best_pass)]) {
+      judging_.best_pass = int(judging_.rms_by_pass.size()) - 1;
+      best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
+    }
+  }
+  bool enough() const {
+    return int(judging_.rms_by_pass.size()) - 1 - judging_.best_pass >= judging_.passes_past_best;
+  }
+  const std::vector<double>& best_normals() const { return best_; }
+
+ private:
+  double summed_rms(const std::vector<double>& normals) const {
+    double sums[2] = {judge_.empty() ? 0.0 : judge_.sum_squared(normals.data()), double(judge_.size())};
+    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
+    return sums[1] > 0 ? std::sqrt(sums[0] / sums[1]) * 180 / pnf::geometry::kPi : 0.0;
+  }
+
+  MPI_Comm comm_;
+  detail::PassJudging& judging_;
+  std::size_t owned_;
+  pnf::detail::SurfaceJudge judge_;
+  std::vector<double> best_;
+};
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -37,9 +96,10 @@ unsigned long long sum_over(MPI_Comm comm, unsigned long long value) {
 
 }  // namespace
 
-DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local, MutableVec3ArrayView normals_out,
-                                   const FilterParams& params, const FilterOptions& options,
-                                   const ProgressCallback& progress) {
+DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView& local,
+                                           MutableVec3ArrayView normals_out, const FilterParams& params,
+                                           const FilterOptions& options, const ProgressCallback& progress,
+                                           PassJudging* judging) {
   detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
@@ -105,10 +165,21 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
   const std::size_t rows = n + plan.halo_points();
   const CloudView view(Vec3ArrayView(owned.positions.data(), rows), Vec3ArrayView(owned.normals.data(), rows));
   std::vector<double> new_normals(3 * n);
+  std::unique_ptr<JudgedPasses> judged;
+  if (judging) {
+    agree.run([&] { judged = std::make_unique<JudgedPasses>(comm, *judging, view, n, owned.total); });
+    part.exchange_halo = [&](const std::vector<double>& owned_normals, std::vector<double>& halo) {
+      agree.check();
+      plan.exchange(owned_normals, halo);
+      judged->after_pass(owned_normals);
+    };
+    part.ends_passes = [&] { return judged->enough(); };
+  }
   agree.run([&] {
     summary.local = pnf::detail::run_filter(*backend, resolved, view, MutableVec3ArrayView(new_normals.data(), n),
                                             part_params, progress, &part);
   });
+  if (judged) new_normals = judged->best_normals();
   backend.reset();
   summary.local.mean_radius = mean_radius;
   summary.local.radius_source = source;
@@ -136,6 +207,12 @@ DistributedSummary improve_normals(MPI_Comm caller_comm, const CloudView& local,
 
   detail::return_normals(comm, owned, new_normals, normals_out);
   return summary;
+}
+
+DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
+                                   const FilterParams& params, const FilterOptions& options,
+                                   const ProgressCallback& progress) {
+  return detail::improve_normals(comm, local, normals_out, params, options, progress, nullptr);
 }
 
 }  // namespace pnf::mpi

@@ -7,6 +7,7 @@ add_library(pnf_mpi
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/device_choice.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/halo.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/improve_normals.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/mpi/improve_normals_auto_mpi.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/mean_radius_mpi.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/partition.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/ply_slices.cpp

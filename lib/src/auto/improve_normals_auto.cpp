@@ -1,0 +1,118 @@
+// pnf::improve_normals_auto: `pnf filter --auto` as one call (auto_params.hpp), and what it
+// shares with the distributed one (judged_passes.hpp).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "filter_factory.hpp"
+#include "judged_passes.hpp"
+#include "pnf/auto_params.hpp"
+#include "pnf/error.hpp"
+#include "surface_judge.hpp"
+
+namespace pnf {
+namespace {
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+// The normals as unit rows, N by 3 (a zero normal is refused by the filter, which runs first).
+std::vector<double> unit_rows(const Vec3ArrayView& normals) {
+  std::vector<double> rows(3 * normals.count);
+  for (std::size_t i = 0; i < normals.count; ++i) {
+    const Vec3 n = normals.at(i);
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int c = 0; c < 3; ++c) rows[3 * i + c] = n[c] / length;
+  }
+  return rows;
+}
+
+}  // namespace
+
+std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
+  std::vector<FilterParams> candidates = {choice.params};
+  if (needs_cross_validation(choice)) {
+    const FilterParams other = independent_errors_setting(choice);
+    if (other.sigma_f != choice.params.sigma_f || other.sigma_g != choice.params.sigma_g) candidates.push_back(other);
+  }
+  return candidates;
+}
+
+std::string detail::judged_heading(double input_rms_deg, std::size_t samples) {
+  return "judged against the surface fitted to the positions at " + std::to_string(samples) +
+         " points, RMS deg from the input (" + number(input_rms_deg) + ") by pass:";
+}
+
+std::string detail::judged_candidate(std::size_t candidate, const FilterParams& params,
+                                     const std::vector<double>& rms_by_pass) {
+  std::string text = candidate == 0 ? " rule's setting"
+                                    : "; sigma_f " + number(params.sigma_f) + ", sigma_g " +
+                                          (params.sigma_g >= 1e5 ? std::string("off") : number(params.sigma_g));
+  for (std::size_t pass = 1; pass < rms_by_pass.size(); ++pass) text += " " + number(rms_by_pass[pass]);
+  return text;
+}
+
+std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
+  if (passes_kept == 0) return ": the input normals kept";
+  return std::string(": ") + (best_candidate == 0 ? "the rule's setting" : "the other setting") + ", " +
+         std::to_string(passes_kept) + (passes_kept == 1 ? " pass kept" : " passes kept");
+}
+
+AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
+                             const ProgressCallback& progress, double stop_change_deg) {
+  if (normals_out.count != cloud.size()) {
+    throw Error(ErrorCode::invalid_argument, "improve_normals_auto: the output normals hold " +
+                                                 std::to_string(normals_out.count) + " rows for " +
+                                                 std::to_string(cloud.size()) + " points");
+  }
+  detail::SurfaceJudge judge;
+  AutoRun run;
+  run.choice = choose_filter_params(detail::estimate_data(cloud, &judge));
+  if (stop_change_deg >= 0) run.choice.params.stop_change_deg = stop_change_deg;
+  if (run.choice.params.iterations == 0 || judge.empty()) {
+    run.summary = filter.run(cloud, normals_out, run.choice.params, progress);
+    run.passes_kept = run.summary.passes_run;
+    return run;
+  }
+  const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
+  // A copy: normals_out may be the cloud's own normals.
+  std::vector<double> best = unit_rows(cloud.normals);
+  const double input_rms = judge.rms_deg(best.data());
+  double best_rms = input_rms;
+  std::size_t best_candidate = 0;
+  std::string judged = detail::judged_heading(input_rms, judge.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    FilterParams params = candidates[c];
+    // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
+    params.iterations = std::max(params.iterations, detail::kJudgedPassBudget);
+    std::vector<double> rms_by_pass = {input_rms};
+    int best_pass_here = 0;
+    auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      rms_by_pass.push_back(judge.rms_deg(normals.data()));
+      if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
+      if (rms_by_pass.back() < best_rms) {
+        best_rms = rms_by_pass.back();
+        best = normals;
+        best_candidate = c;
+        run.passes_kept = pass;
+      }
+    };
+    auto enough = [&] { return int(rms_by_pass.size()) - 1 - best_pass_here >= detail::kJudgedPassesPastBest; };
+    const FilterSummary summary =
+        detail::FilterFactory::run_observed(filter, cloud, normals_out, params, after_pass, progress, enough);
+    if (c == best_candidate) run.summary = summary;
+    judged += detail::judged_candidate(c, params, rms_by_pass);
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
+  }
+  for (std::size_t i = 0; i < cloud.size(); ++i) normals_out.set(i, {best[3 * i], best[3 * i + 1], best[3 * i + 2]});
+  if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
+  run.choice.judged = judged + detail::judged_outcome(best_candidate, run.passes_kept);
+  run.choice.params.iterations = run.passes_kept;
+  return run;
+}
+
+}  // namespace pnf

@@ -1,0 +1,39 @@
+// Internal to --auto: what one process's and a distributed run's improve_normals_auto share (the
+// candidates, the pass budget and the report), so that both judge alike.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "pnf/auto_params.hpp"
+
+namespace pnf::detail {
+
+// The judge may run up to this many passes, or the rule's passes where more: noisy organic shapes
+// gained up to 8 (teddy at 0.9 spacings of noise: 15.4 deg RMS after the rule's 2, 6.3 after 8).
+constexpr int kJudgedPassBudget = 8;
+// ... and a setting's passes end when this many in a row have not beaten its best so far: past
+// the best, the judged RMS of the real meshes only rose (docs/auto.md).
+constexpr int kJudgedPassesPastBest = 2;
+
+// The setting the rule's line for input normals with errors independent of the positions gives
+// `choice`'s estimate (mean radii, the choice's units, mean radius and stop rule); the choice's
+// own params where that line does not apply (flat shapes with gentle creases or none, or noise
+// that hides the features). choose_filter_params.cpp.
+FilterParams independent_errors_setting(const AutoChoice& choice);
+
+// The settings the judge tries, first the rule's: and where the estimate sees input normals whose
+// errors may not follow the positions (needs_cross_validation: a scanner's, a mesh's), the line
+// for those too, which the rule alone tells least surely. Not for PCA normals: that line's wide
+// sigma_g blurs detail finer than the judge's fits, which the judge cannot see (the camel with
+// PCA-16 normals: judged better, truly 0.5% worse than its input).
+std::vector<FilterParams> judged_candidates(const AutoChoice& choice);
+
+// AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
+// the outcome.
+std::string judged_heading(double input_rms_deg, std::size_t samples);
+std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
+std::string judged_outcome(std::size_t best_candidate, int passes_kept);
+
+}  // namespace pnf::detail

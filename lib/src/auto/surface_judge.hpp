@@ -1,0 +1,62 @@
+// Internal to --auto: how far a normal field is from the surface its positions carry. At samples
+// spread through the cloud, a quadric height field is fitted to the sample's neighbours in the
+// frame of the normal being judged, by iteratively reweighted least squares with a narrow
+// Gaussian weight on the residual: the fit locks onto the sheet of points that passes nearest
+// that normal's tangent plane (one face at a sharp edge, the whole neighbourhood on a smooth
+// surface) and its slope at the sample is the normal's error there. The input normals play no
+// part in the fit, so a normal that follows the positions' surface scores low, a blurred one at
+// an edge or a tilted one on a smooth face scores high. --auto runs its setting pass by pass and
+// keeps the pass (0: the input) that scores lowest (docs/auto.md).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "pnf/auto_params.hpp"
+#include "pnf/cloud_view.hpp"
+#include "pnf/point_cloud.hpp"
+
+namespace pnf::detail {
+
+class SpatialIndex;
+
+class SurfaceJudge {
+ public:
+  SurfaceJudge() = default;
+  // Samples `samples` points spread evenly through the index's first `among` points (point
+  // floor(s among / samples); all of them by default), each with its `neighbours` nearest points
+  // (the sample included); `width` is the weight's width on the residual (model units). The
+  // index must keep the cloud's order (SpatialIndex::Layout::any_order), as the normals judged
+  // later come in it.
+  SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width,
+               std::size_t among = std::size_t(-1));
+
+  bool empty() const { return ids_.empty(); }
+  std::size_t size() const { return ids_.size(); }
+  int neighbours() const { return neighbours_; }
+  // The RMS over the samples of the angle (degrees) between each sample's normal in `normals_xyz`
+  // (N by 3, the cloud's order) and the normal of the surface fitted in its frame.
+  double rms_deg(const double* normals_xyz) const;
+  // The sum over the samples of that angle squared (radians^2): a distributed run adds the ranks'.
+  double sum_squared(const double* normals_xyz) const;
+
+ private:
+  std::vector<std::size_t> ids_;
+  std::vector<double> offsets_;  // per sample, `neighbours_` rows of x y z from the sample
+  int neighbours_ = 0;
+  double width_ = 0;
+};
+
+// The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside
+// the fits' constants it derives from): the same for one process and a distributed run.
+struct JudgeGeometry {
+  std::size_t samples = 0;  // over the whole cloud
+  int neighbours = 0;       // the sample included
+  double width = 0;         // model units
+};
+JudgeGeometry judge_geometry(const DataEstimate& estimate);
+
+// pnf::estimate_data, also making `judge` (when not null) with judge_geometry's settings.
+DataEstimate estimate_data(const CloudView& cloud, SurfaceJudge* judge);
+
+}  // namespace pnf::detail
