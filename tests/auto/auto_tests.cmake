@@ -10,6 +10,7 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/cross_validation_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
   ${PROJECT_SOURCE_DIR}/bench/real_meshes.cpp
   ${PROJECT_SOURCE_DIR}/bench/eval_clouds.cpp)

@@ -1,0 +1,107 @@
+// --auto's judge (lib/src/auto/surface_judge.hpp) and the judged run (pnf::improve_normals_auto),
+// against true normals the tests know.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "auto/surface_judge.hpp"
+#include "crease_clouds.hpp"
+#include "pnf/auto_params.hpp"
+#include "spatial/spatial_index.hpp"
+#include "test_clouds.hpp"
+
+namespace pnf::test {
+namespace {
+
+// Rows x y z of `normals`, the judge's input.
+std::vector<double> rows(const std::vector<Vec3>& normals) {
+  std::vector<double> out;
+  for (const Vec3& n : normals) out.insert(out.end(), n.begin(), n.end());
+  return out;
+}
+
+// The judge keeps copies of the neighbourhoods, so the index may go.
+detail::SurfaceJudge judge_of(const std::vector<Vec3>& positions, int neighbours, double width) {
+  std::vector<double> xyz = rows(positions);
+  const detail::SpatialIndex index(std::move(xyz), detail::SpatialIndex::Layout::any_order);
+  return detail::SurfaceJudge(index, 2000, neighbours, width);
+}
+
+// Each normal tilted by exactly `degrees` about a random tangent direction.
+std::vector<Vec3> tilted(const std::vector<Vec3>& truth, double degrees, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> turn(0, 2 * kPi);
+  std::vector<Vec3> out;
+  const double t = degrees * kPi / 180;
+  for (const Vec3& n : truth) {
+    const Vec3 a = std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    Vec3 t1 = normalized({n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]});
+    const Vec3 t2 = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]};
+    const double phi = turn(rng);
+    Vec3 d;
+    for (int c = 0; c < 3; ++c) d[c] = std::cos(phi) * t1[c] + std::sin(phi) * t2[c];
+    out.push_back({std::cos(t) * n[0] + std::sin(t) * d[0], std::cos(t) * n[1] + std::sin(t) * d[1],
+                   std::cos(t) * n[2] + std::sin(t) * d[2]});
+  }
+  return out;
+}
+
+TEST(SurfaceJudge, ReadsATiltOnASmoothSurfaceAsItsAngle) {
+  const PointCloud s = sphere(20000, 1.0, 3);
+  const double spacing = std::sqrt(4 * kPi / 20000);
+  const detail::SurfaceJudge judge = judge_of(s.positions, 65, 0.15 * spacing);
+  ASSERT_FALSE(judge.empty());
+  const std::vector<Vec3>& truth = s.normals;
+  EXPECT_LT(judge.rms_deg(rows(truth).data()), 0.3);
+  // A tilt of 5 degrees reads as 5, within the fits' own error.
+  EXPECT_NEAR(judge.rms_deg(rows(tilted(truth, 5, 1)).data()), 5.0, 0.5);
+  EXPECT_NEAR(judge.rms_deg(rows(tilted(truth, 2, 2)).data()), 2.0, 0.4);
+}
+
+TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
+  const Crease c = make_crease(90, 20000, 0.0, 5);
+  const detail::SurfaceJudge judge = judge_of(c.cloud.positions, 65, 0.15 * c.spacing);
+  // PCA normals blur the crease; the true ones are each face's.
+  const std::vector<Vec3> pca = pca16_normals(c.cloud.positions, c.truth);
+  ASSERT_GT(rms_line_angle(pca, c.truth), 2.0);  // the blur is there to be seen
+  const double truth_score = judge.rms_deg(rows(c.truth).data());
+  const double pca_score = judge.rms_deg(rows(pca).data());
+  EXPECT_LT(truth_score, 0.5);
+  EXPECT_GT(pca_score, 0.5 * rms_line_angle(pca, c.truth));
+}
+
+TEST(ImproveNormalsAuto, KeepsNormalsThatAlreadyFollowTheSurface) {
+  // A clean sphere with its exact normals: every pass can only move them off; the input is kept.
+  const PointCloud s = sphere(20000, 1.0, 4);
+  std::vector<Vec3> out(s.size());
+  const AutoRun run = improve_normals_auto(s, MutableVec3ArrayView(out), fastest_filter());
+  EXPECT_EQ(run.passes_kept, 0);
+  EXPECT_EQ(run.choice.params.iterations, 0);
+  EXPECT_LT(mean_angle_deg(out, s.normals), 1e-9);
+}
+
+TEST(ImproveNormalsAuto, FiltersBlurredCreasesAndKeepsTheBestPass) {
+  const Crease c = make_crease(90, 20000, 0.1, 6);
+  PointCloud cloud = c.cloud;
+  cloud.normals = pca16_normals(cloud.positions, c.truth);
+  const double input = rms_line_angle(cloud.normals, c.truth);
+  // In place: the output view is the cloud's own normals.
+  const AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(cloud.normals), fastest_filter());
+  EXPECT_GT(run.passes_kept, 0);
+  EXPECT_LT(rms_line_angle(cloud.normals, c.truth), 0.7 * input);
+  // The passes end within two of the best, and the best is the lowest judged.
+  ASSERT_FALSE(run.judged_rms_deg.empty());
+  EXPECT_LE(run.summary.passes_run, run.passes_kept + 2);
+  EXPECT_FALSE(run.choice.judged.empty());
+}
+
+TEST(ImproveNormalsAuto, RefusesAnOutputOfTheWrongSize) {
+  const PointCloud s = sphere(100, 1.0, 1);
+  std::vector<Vec3> out(99);
+  EXPECT_THROW(improve_normals_auto(s, MutableVec3ArrayView(out), fastest_filter()), Error);
+}
+
+}  // namespace
+}  // namespace pnf::test
