@@ -142,9 +142,13 @@ def read(path: PathLike, check_normals: bool = True) -> PointFile:
     """Reads a point file (.ply in any encoding, .pcd, .xyz, .xyzn, .pwn) losslessly: the
     PointFile keeps every element, property, comment and value, and writes them back unchanged.
 
+    Points without normals: in a .pcd or .ply, a point whose normal is NaN (as PCL's
+    NormalEstimation leaves one with too few neighbours) is kept in its place but left out of
+    f.points and f.normals, as PCL's NaN points are; setting f.normals (one row per row of
+    f.points) writes NaN normals back into both kinds. f.without_normals counts them.
+
     check_normals=False reads the file's normals as they are (NaN, infinite or zero ones
-    included, as PCL's NormalEstimation leaves NaN on points with too few neighbours), for a
-    caller that replaces them, e.g. with estimate_normals(f.points).
+    included), for a caller that replaces them all, e.g. with estimate_normals(f.points).
 
     Raises OSError when the file cannot be read, ValueError when it is malformed.
     """

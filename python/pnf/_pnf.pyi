@@ -128,6 +128,10 @@ class PointFile:
     @normals.setter
     def normals(self, value: Any) -> None: ...
     @property
+    def without_normals(self) -> int:
+        """Points with positions but NaN normals (as PCL's NormalEstimation leaves them), left out
+        of points and normals and written back with NaN normals; 0 with check_normals=False."""
+    @property
     def radii(self) -> Optional[np.ndarray]:
         """(N,) float64 values of the vertex property `radius`, or None."""
     @property

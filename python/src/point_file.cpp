@@ -84,10 +84,13 @@ void bind_point_file(py::module_& m) {
             return vec3_array(f.cloud().normals);
           },
           [](PointFile& f, py::handle normals) {
+            // One row per point of .points: invalid points and points without normals are not
+            // among them, and keep NaN normals.
             Vec3Input n(normals, "normals");
-            check_same_size("normals", n.size(), "the file's vertices", f.size());
+            check_same_size("normals", n.size(), "points", f.valid_count());
             f.set_normals(to_vectors(n.view()));
           })
+      .def_property_readonly("without_normals", &PointFile::without_normals)
       .def_property_readonly("radii",
                              [](const PointFile& f) -> py::object {
                                PointCloud c = f.cloud();

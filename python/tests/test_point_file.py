@@ -124,17 +124,67 @@ def test_setting_bad_normals_raises(tmp_path):
         f.normals = bad
 
 
-def test_nan_normals_are_refused_unless_asked_for_and_can_be_replaced(tmp_path):
-    # PCL's NormalEstimation leaves NaN normals on points with too few neighbours.
+def test_nan_normals_are_left_out_unless_asked_for_and_can_be_replaced(tmp_path):
+    # PCL's NormalEstimation leaves NaN normals on points with too few neighbours: such points
+    # are left out of .points and .normals; a normal only partly NaN is an error.
     points, normals, _ = noisy_cube(6)
     normals = normals.copy()
+    normals[5, 0] = np.nan
+    write_extra_ply(tmp_path / "partly_nan.ply", points, normals)
+    with pytest.raises(ValueError, match="vertex 5.*NaN.*pnf estimate"):
+        pnf.read(tmp_path / "partly_nan.ply")
+    normals[5, 0] = 0.0
     normals[3] = np.nan
     path = tmp_path / "nan_normal.ply"
     write_extra_ply(path, points, normals)
-    with pytest.raises(ValueError, match="vertex 3.*NaN.*pnf estimate"):
-        pnf.read(path)
+    kept = pnf.read(path)
+    assert kept.without_normals == 1 and len(kept.points) == len(points) - 1
     f = pnf.read(path, check_normals=False)
     assert np.isnan(f.normals[3]).all() and np.isfinite(np.delete(f.normals, 3, axis=0)).all()
     f.normals = pnf.estimate_normals(f.points, orient="outward")
     f.write(tmp_path / "fixed.ply", ascii=True)
     assert np.isfinite(pnf.read(tmp_path / "fixed.ply").normals).all()
+
+
+def write_pcl_pcd(path: pathlib.Path, points: np.ndarray, normals: np.ndarray, without: set, invalid: set) -> None:
+    """An ascii PCD as PCL writes one: NaN normals (and curvature) on the rows `without`, NaN
+    everything on the rows `invalid`."""
+    lines = [
+        "# .PCD v0.7 - Point Cloud Data file format", "VERSION 0.7",
+        "FIELDS x y z normal_x normal_y normal_z curvature", "SIZE 4 4 4 4 4 4 4", "TYPE F F F F F F F",
+        "COUNT 1 1 1 1 1 1 1", f"WIDTH {len(points)}", "HEIGHT 1", "VIEWPOINT 0 0 0 1 0 0 0",
+        f"POINTS {len(points)}", "DATA ascii",
+    ]
+    for i, (p, n) in enumerate(zip(points, normals)):
+        if i in invalid:
+            lines.append("nan nan nan nan nan nan nan")
+        elif i in without:
+            lines.append(f"{p[0]:.9g} {p[1]:.9g} {p[2]:.9g} nan nan nan nan")
+        else:
+            lines.append(f"{p[0]:.9g} {p[1]:.9g} {p[2]:.9g} {n[0]:.9g} {n[1]:.9g} {n[2]:.9g} 0.01")
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_pcl_nan_normals_are_kept_as_they_were(tmp_path):
+    """PCL's NormalEstimation leaves NaN normals on points with too few neighbours: read() keeps
+    them out of .points and .normals (counted by without_normals), improve_normals runs on the
+    rest, and setting .normals (one row per point of .points) writes them back with NaN normals."""
+    points, normals, _ = noisy_cube(6)
+    without, invalid = {3, 40, 100}, {7}
+    path = tmp_path / "pcl.pcd"
+    write_pcl_pcd(path, points, normals, without, invalid)
+    f = pnf.read(path)
+    kept = [i for i in range(len(points)) if i not in without | invalid]
+    assert len(f) == len(points) and f.without_normals == 3 and len(f.points) == len(kept)
+    np.testing.assert_allclose(f.points, points[kept], atol=1e-6)
+    improved = pnf.improve_normals(f.points, f.normals, backend="reference")
+    f.normals = improved
+    pnf.write(tmp_path / "out.pcd", f)
+    back = pnf.read(tmp_path / "out.pcd")
+    assert back.without_normals == 3 and len(back) == len(points)
+    np.testing.assert_allclose(back.normals, improved, atol=1e-6)
+    everything = pnf.read(tmp_path / "out.pcd", check_normals=False)
+    assert everything.without_normals == 0 and len(everything.points) == len(points) - 1
+    rows = [i for i in range(len(points)) if i not in invalid]
+    nan_rows = np.isnan(everything.normals).all(axis=1)
+    assert [rows[i] for i in np.flatnonzero(nan_rows)] == sorted(without)

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -187,6 +188,53 @@ TEST_F(CliTest, InPlaceReplacesTheInput) {
   ASSERT_EQ(estimate.exit_code, 0) << estimate.describe();
   EXPECT_NE(read_normals(in), replaced.normals);
   EXPECT_EQ(folder_entries(work_), std::set<std::string>{"in.ply"});
+}
+
+// PCL's output: NaN normals on valid points with too few neighbours (and an invalid NaN point).
+// `filter` keeps those points in place with their NaN normals, leaves them out of every
+// neighbourhood (the other normals are the library's on the cloud without them), and keeps the
+// organisation.
+TEST_F(CliTest, FilterKeepsPointsWithoutNormalsAsTheyWere) {
+  const PointCloud grid = noisy_grid();
+  const std::set<std::size_t> without_normals = {5, 17, 233}, invalid = {30};
+  std::string text =
+      "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\n"
+      "SIZE 8 8 8 8 8 8\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH 20\nHEIGHT 20\nVIEWPOINT 0 0 0 1 0 0 0\n"
+      "POINTS 400\nDATA ascii\n";
+  PointCloud kept;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const Vec3& p = grid.positions[i];
+    const Vec3& n = grid.normals[i];
+    if (invalid.count(i) > 0) {
+      text += "nan nan nan nan nan nan\n";
+      continue;
+    }
+    char row[256];
+    std::snprintf(row, sizeof row, "%.17g %.17g %.17g ", p[0], p[1], p[2]);
+    text += row;
+    if (without_normals.count(i) > 0) {
+      text += "nan nan nan\n";
+      continue;
+    }
+    std::snprintf(row, sizeof row, "%.17g %.17g %.17g\n", n[0], n[1], n[2]);
+    text += row;
+    kept.positions.push_back(p);
+    kept.normals.push_back(n);
+  }
+  write_whole_file(path("pcl.pcd"), text);
+  const CliRun r = run({"filter", path("pcl.pcd"), path("out.pcd"), "--backend", "reference"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  const PointFile out = read_point_file(path("out.pcd"));
+  EXPECT_EQ(out.pcd_header()->width, 20u);
+  EXPECT_EQ(out.pcd_header()->height, 20u);
+  EXPECT_EQ(out.size(), 400u);
+  EXPECT_EQ(out.without_normals(), 3u);
+  ASSERT_EQ(out.valid_count(), 396u);
+  for (std::size_t i = 0; i < out.valid_count(); ++i) {
+    EXPECT_EQ(without_normals.count(out.row_of_point(i)) + invalid.count(out.row_of_point(i)), 0u);
+  }
+  EXPECT_EQ(out.cloud().positions, kept.positions);
+  EXPECT_EQ(out.cloud().normals, reference_filter()->run(kept).normals);
 }
 
 // The bar is drawn only on a terminal: run through script(1), which gives the tool a

@@ -86,22 +86,32 @@ int run_info(const std::string& path) {
     if (!cloud.has_normals()) {
       std::printf("  normals      none (run pnf estimate)\n");
     } else {
-      std::size_t off = 0, bad = 0;
+      std::size_t off = 0, bad = 0, missing = 0;
       for (const Vec3& n : cloud.normals) {
         const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!std::isfinite(length) || length == 0)
+        if (std::isnan(n[0]) && std::isnan(n[1]) && std::isnan(n[2]))
+          ++missing;
+        else if (!std::isfinite(length) || length == 0)
           ++bad;
         else
           off += std::fabs(length - 1) > kUnitTolerance;
       }
+      // A NaN normal is a point without a normal in PLY and PCD (PointFile), an error in text.
+      const bool text = file.source_format() != PointFileFormat::ply && !pcd;
+      if (text) bad += missing;
       if (bad > 0)
-        std::printf("  normals      yes, %zu NaN, infinite or zero (pnf filter refuses them; pnf estimate replaces "
-                    "every normal)\n",
-                    bad);
+        std::printf(
+            "  normals      yes, %zu NaN, infinite or zero (pnf filter refuses them; pnf estimate replaces "
+            "every normal)",
+            bad);
       else if (off == 0)
-        std::printf("  normals      yes, unit length\n");
+        std::printf("  normals      yes, unit length");
       else
-        std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)\n", off);
+        std::printf("  normals      yes, %zu not unit length (pnf filter normalises them)", off);
+      if (missing > 0 && !text)
+        std::printf("; %zu points without normals (NaN, as PCL leaves them: pnf filter keeps them as they were)",
+                    missing);
+      std::printf("\n");
     }
     return int(kOk);
   });

@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   using namespace pnf::cli;
   CLI::App app{"pnf: clean the normals of point models while keeping their sharp features.\n"};
   app.footer(
-      "Formats (by extension): .ply, .pcd (PCL; NaN points are invalid pixels, kept in place with NaN normals), "
+      "Formats (by extension): .ply, .pcd (PCL; NaN points are invalid pixels, kept in place with NaN normals; "
+      "points with NaN normals are kept as they were and left out of filtering), "
       ".xyz, .xyzn, .pwn.\n"
       "Exit codes: 0 ok, 1 internal error, 2 usage, 3 input error, 4 device error, 5 output error, 6 cancelled.\n"
       "Environment: PNF_DEVICE picks the OpenCL device (cpu, gpu, accelerator, P:D, or part of a name).");

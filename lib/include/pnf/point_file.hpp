@@ -17,6 +17,14 @@
 // that such files read back; any other NaN coordinate or normal is an error naming the vertex.
 // In text formats a NaN is always an error, and every row is a valid point.
 //
+// Points without normals (PCD and PLY). PCL's NormalEstimation leaves NaN normals on points
+// with too few neighbours. A row with finite coordinates whose three normal components are all
+// NaN is handled like an invalid point: it stays in its place, cloud() leaves it out (so no
+// filter neighbourhood sees it), set_normals() writes NaN normals back into it, and
+// without_normals() counts it. A normal that is only partly NaN, infinite or zero is still an
+// error naming the vertex. With ReadOptions::check_normals false such rows are ordinary valid
+// points (for a caller that replaces every normal, as `pnf estimate` does).
+//
 // Thread safety: read_point_file and write_point_file may run concurrently on different paths.
 // A PointFile is a plain value: const members may be called from several threads at once,
 // set_normals needs exclusive access.
@@ -135,9 +143,10 @@ struct WriteOptions {
 
 // The contents of one point file. Always holds a "vertex" element with scalar x, y, z
 // properties, and every valid point has finite coordinates and finite, non-zero normals
-// (checked on read, unless ReadOptions::check_normals is false, and by set_normals). For a PCD file the vertex element has one property per
-// value of each field (a field of COUNT k > 1 gives name_0 ... name_{k-1}), and only rows with a
-// NaN coordinate are invalid (see the top of this header).
+// (checked on read, unless ReadOptions::check_normals is false, and by set_normals). For a PCD
+// file the vertex element has one property per value of each field (a field of COUNT k > 1
+// gives name_0 ... name_{k-1}), and rows with a NaN coordinate are invalid (see the top of this
+// header).
 class PointFile {
  public:
   // An empty cloud: zero vertices.
@@ -163,9 +172,14 @@ class PointFile {
   const PcdHeader* pcd_header() const;
   // Number of rows N (vertices; for PCD every point, valid or not).
   std::size_t size() const;
-  // Number of valid points M <= N: the size of cloud(). M == N except for PCD rows with a NaN
-  // coordinate.
+  // Number of valid points M <= N: the size of cloud(). M == N except for invalid points (rows
+  // with a NaN coordinate) and points without normals (see the top of this header).
   std::size_t valid_count() const;
+  // Number of rows N - M left out of cloud() because their coordinates are finite but their
+  // normal is NaN (points without normals, see the top of this header); 0 for a file read with
+  // ReadOptions::check_normals false. The other N - M - without_normals() rows have a NaN
+  // coordinate.
+  std::size_t without_normals() const;
   // The row (0 .. N-1) of valid point i (0 .. M-1), in ascending order; i itself when every row
   // is valid. Throws invalid_argument when i >= M.
   std::size_t row_of_point(std::size_t i) const;
@@ -181,8 +195,9 @@ class PointFile {
   // float for a PLY file, double for a text file (whose values are all double); for PCD, float
   // fields normal_x normal_y normal_z after the last field. `normals` is M long (one per valid
   // point, in the order of cloud()), each finite and non-zero; it need not be unit length.
-  // Invalid rows get NaN normals. Throws invalid_argument naming the index of a bad normal or
-  // the wrong size, and invalid_input when the file's normal properties have an integer type.
+  // Invalid rows and points without normals get NaN normals. Throws invalid_argument naming
+  // the index of a bad normal or the wrong size, and invalid_input when the file's normal
+  // properties have an integer type.
   void set_normals(const std::vector<Vec3>& normals);
 
   // The values of element `element` (index into header().elements) in the PLY
@@ -219,9 +234,9 @@ PointFile read_point_file(const std::string& path, const ReadOptions& options = 
 // out as PCL does (they read back as zero). A PLY or text file written as PCD becomes one
 // unorganised cloud of its vertices' scalar properties (nx ny nz named normal_x normal_y
 // normal_z); list properties cannot be written to PCD. A PCD file written as PLY keeps its rows,
-// invalid ones included (they read back as invalid points); a 64-bit integer field cannot be
-// written to PLY. Text formats carry
-// x y z [nx ny nz] of the valid points, 17 significant digits; .xyzn and .pwn need normals.
+// invalid ones and points without normals included (they read back as such); a 64-bit integer
+// field cannot be written to PLY. Text formats carry x y z [nx ny nz] of the valid points only
+// (cloud()), 17 significant digits; .xyzn and .pwn need normals.
 // The data goes to a temporary file in the target's folder that is renamed over `path`, so
 // `path` is either replaced whole or left alone; on failure no temporary file remains. Throws
 // invalid_argument for an unknown extension, a text format that needs normals the file lacks,

@@ -237,6 +237,8 @@ const PcdHeader* PointFile::pcd_header() const {
 
 std::size_t PointFile::valid_count() const { return impl_->has_invalid_rows ? impl_->valid_rows.size() : size(); }
 
+std::size_t PointFile::without_normals() const { return impl_->rows_without_normals; }
+
 std::size_t PointFile::row_of_point(std::size_t i) const {
   if (i >= valid_count()) {
     throw Error(ErrorCode::invalid_argument,
@@ -307,7 +309,8 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   for (std::size_t r = 0; r < vertex.count; ++r) {
     const std::size_t row_size = layout.measure(row);
     const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
-    // An invalid point (a PCD row with a NaN coordinate) has no normal: NaN, as PCL gives it.
+    // An invalid point (a row with a NaN coordinate) or a point without a normal: NaN, as PCL
+    // gives it.
     const Vec3 normal = valid ? normals[i++] : Vec3{kNaN, kNaN, kNaN};
     for (int axis = 0; axis < 3; ++axis) {
       store_real(properties[fields[axis]].type, normal[axis], row + layout.offset(fields[axis]));

@@ -36,10 +36,14 @@ struct PointFile::Impl {
   // For a file read from PCD: its header, whose fields give the vertex properties in order
   // (one per value), kept in step with them by set_normals.
   PcdHeader pcd;
-  // True when some rows are invalid points (check_vertices' InvalidRows); then valid_rows
-  // lists the valid ones in ascending order. False: every row is valid, valid_rows is empty.
+  // True when some rows are invalid points (check_vertices' InvalidRows) or points without
+  // normals; then valid_rows lists the valid ones in ascending order. False: every row is valid,
+  // valid_rows is empty.
   bool has_invalid_rows = false;
   std::vector<std::size_t> valid_rows;
+  // How many of the rows left out of valid_rows have finite coordinates and a NaN normal
+  // (PointFile::without_normals); the others have a NaN coordinate.
+  std::size_t rows_without_normals = 0;
 };
 
 // Finds the "vertex" element and the properties pnf uses, and stores them in `impl`. Throws
@@ -61,7 +65,10 @@ enum class InvalidRows {
 // message can name it. Throws invalid_input naming `path`, the vertex index and the line.
 // A row that `invalid` marks is an invalid point instead: it is not checked further, and
 // impl.has_invalid_rows / impl.valid_rows record it; for PCD, messages say "point" rather than
-// "vertex".
+// "vertex". Where `invalid` is not none and check_normals is true, a row with finite coordinates
+// whose three normal components are all NaN (PCL's NormalEstimation's mark of a point with too
+// few neighbours) is left out in the same way and counted in impl.rows_without_normals; a normal
+// only partly NaN, infinite or zero stays an error.
 // With check_normals false (ReadOptions), the normals are left unchecked.
 void check_vertices(PointFile::Impl& impl, const std::string& path, const std::vector<std::size_t>& row_lines,
                     InvalidRows invalid = InvalidRows::none, bool check_normals = true);

@@ -97,15 +97,27 @@ void check_vertices(PointFile::Impl& impl, const std::string& path, const std::v
   const std::size_t normal_fields[3] = {fields.nx, fields.ny, fields.nz};
   std::vector<std::size_t> valid_rows;
   impl.has_invalid_rows = false;
+  impl.rows_without_normals = 0;
   for (std::size_t vertex = 0; vertex < element.count; ++vertex) {
     const std::size_t row_size = layout.measure(row);
     if (invalid_rows != InvalidRows::none) {
       const bool x = std::isnan(load(fields.x)), y = std::isnan(load(fields.y)), z = std::isnan(load(fields.z));
+      const bool nan_normal = fields.has_normals() && std::isnan(load(fields.nx)) && std::isnan(load(fields.ny)) &&
+                              std::isnan(load(fields.nz));
       bool invalid = x || y || z;
-      if (invalid && invalid_rows == InvalidRows::nan_point) {
-        const bool nan_normal = fields.has_normals() && std::isnan(load(fields.nx)) && std::isnan(load(fields.ny)) &&
-                                std::isnan(load(fields.nz));
-        invalid = (x && y && z) || nan_normal;
+      if (invalid && invalid_rows == InvalidRows::nan_point) invalid = (x && y && z) || nan_normal;
+      if (!invalid && nan_normal && check_normals) {
+        // A point without a normal, as PCL's NormalEstimation leaves one with too few neighbours:
+        // kept in place and out of every neighbourhood, like an invalid point. Its coordinates
+        // must still be finite (checked here, since the row skips the checks below).
+        for (const std::size_t field : position_fields) {
+          const double value = load(field);
+          if (!std::isfinite(value)) {
+            fail(vertex, "coordinate " + element.properties[field].name + " is " + describe_value(value));
+          }
+        }
+        invalid = true;
+        ++impl.rows_without_normals;
       }
       if (invalid && !impl.has_invalid_rows) {
         // The rows before the first invalid one were all valid.

@@ -98,9 +98,10 @@ void check_rows(const std::string& path, const PlySliceLayout& layout, const Ply
     // The ranks split and exchange rows as points; invalid ones would need their own bookkeeping.
     std::size_t row = 0;
     while (row < impl.valid_rows.size() && impl.valid_rows[row] == row) ++row;
-    throw Error(ErrorCode::invalid_input, path + ": vertex " + std::to_string(slice.first + row) +
-                                              " is an invalid point (NaN coordinates), which distributed runs do "
-                                              "not take; filter this file on one process");
+    const std::string what = impl.rows_without_normals > 0 ? "an invalid point (NaN coordinates) or has no normal (NaN)"
+                                                           : "an invalid point (NaN coordinates)";
+    throw Error(ErrorCode::invalid_input, path + ": vertex " + std::to_string(slice.first + row) + " is " + what +
+                                              ", which distributed runs do not take; filter this file on one process");
   }
 }
 
