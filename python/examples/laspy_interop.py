@@ -43,7 +43,7 @@ def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("source")
     parser.add_argument("target")
-    parser.add_argument("--k", type=int, default=16, help="neighbours of the PCA fit (default 16)")
+    parser.add_argument("--k", type=int, default=16, help="points in each PCA fit, the point itself included (default 16)")
     args = parser.parse_args(argv[1:])
     normals = filter_las(args.source, args.target, k=args.k)
     print(f"{len(normals)} points: normals written to {args.target} as {', '.join(NORMAL_DIMENSIONS)}")

@@ -129,10 +129,12 @@ def choose_params(
 def estimate_normals(
     points: ArrayLike, k: int = 16, orient: str = "mst", viewpoint: Sequence[float] = (0.0, 0.0, 0.0)
 ) -> np.ndarray:
-    """Oriented unit normals for points that have none: a PCA fit over each point and its k
-    nearest others, oriented by `orient`: "mst" (minimum spanning tree propagation, Hoppe 1992),
-    "outward" (away from the centroid) or "viewpoint" (toward `viewpoint`). Needs N >= 3 and
-    k >= 3. Returns an (N, 3) float64 array. float32/float64 points are read in place.
+    """Oriented unit normals for points that have none: a PCA fit over each point's k nearest
+    points, the point itself included (as PCL's setKSearch and Open3D's KDTreeSearchParamKNN
+    count them; k larger than N means all N), oriented by `orient`: "mst" (minimum spanning tree
+    propagation, Hoppe 1992), "outward" (away from the centroid) or "viewpoint" (toward
+    `viewpoint`). Needs N >= 3 and k >= 3. Returns an (N, 3) float64 array. float32/float64
+    points are read in place.
     Ctrl-C interrupts it within about 0.2 s (KeyboardInterrupt).
     """
     return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))

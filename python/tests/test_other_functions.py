@@ -28,6 +28,23 @@ def test_estimate_normals_on_a_sphere_point_outward():
     assert (np.einsum("ij,ij->i", inward, points) < 0).all()
 
 
+def test_estimate_k_counts_the_point_itself_as_pcl_and_open3d_do():
+    # Each normal is the PCA normal of the k nearest points, the point itself included (PCL's
+    # setKSearch, Open3D's KDTreeSearchParamKNN), found here by brute force.
+    rng = np.random.default_rng(5)
+    points = rng.normal(size=(300, 3))
+    points /= np.linalg.norm(points, axis=1, keepdims=True)
+    points += rng.normal(0.0, 0.01, points.shape)
+    k = 5
+    normals = pnf.estimate_normals(points, k=k, orient="outward")
+    distances = np.linalg.norm(points[:, None, :] - points[None, :, :], axis=2)
+    for i in range(len(points)):
+        nearest = points[np.argsort(distances[i])[:k]]
+        centred = nearest - nearest.mean(axis=0)
+        expected = np.linalg.eigh(centred.T @ centred)[1][:, 0]
+        assert abs(normals[i] @ expected) > 1 - 1e-9, i
+
+
 def test_estimate_accepts_float32():
     points = sphere().astype(np.float32)
     np.testing.assert_array_equal(pnf.estimate_normals(points),

@@ -323,7 +323,7 @@ TEST_F(CliTest, EstimateOutwardOnASphere) {
   const std::string in = write_cloud("sphere.ply", bare);
   const CliRun r = run({"estimate", in, path("estimated.ply"), "--orient", "outward", "--k", "12"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  EXPECT_TRUE(contains(r.err, "2000 points, PCA over 12 neighbours, oriented by outward")) << r.err;
+  EXPECT_TRUE(contains(r.err, "2000 points, PCA over 12 nearest points (itself included), oriented by outward")) << r.err;
   const std::vector<Vec3> estimated = read_normals(path("estimated.ply"));
   EXPECT_GE(share_facing(estimated, truth.normals), kMinOrientedShare);
   EXPECT_LT(mean_angle_deg(estimated, truth.normals), kMaxMeanDegrees);
@@ -332,12 +332,12 @@ TEST_F(CliTest, EstimateOutwardOnASphere) {
   EXPECT_GE(share_facing(read_normals(path("filtered.ply")), truth.normals), kMinOrientedShare);
 }
 
-// A k beyond the cloud is clamped to N - 1 by the library; the summary says what was used.
+// A k beyond the cloud is clamped to N by the library; the summary says what was used.
 TEST_F(CliTest, EstimateReportsTheClampedK) {
   write_whole_file(path("five.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");
   const CliRun r = run({"estimate", path("five.xyz"), path("out.xyzn"), "--k", "100"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  EXPECT_TRUE(contains(r.err, "5 points, PCA over 4 neighbours")) << r.err;
+  EXPECT_TRUE(contains(r.err, "5 points, PCA over 5 nearest points")) << r.err;
   EXPECT_EQ(read_normals(path("out.xyzn")), std::vector<Vec3>(5, Vec3{0, 0, 1}));
 }
 

@@ -4,13 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #ifdef _OPENMP
@@ -187,6 +190,40 @@ EstimateParams params_with(Orientation orientation, int k = 16) {
   return params;
 }
 
+// The PCA fit of point i over its k nearest points (itself included), found by brute force:
+// the eigenvalues of their covariance about the centroid, increasing, and the eigenvector of
+// the smallest (unsigned).
+struct BruteForceFit {
+  Vec3 normal;
+  std::array<double, 3> eigenvalues;
+};
+
+BruteForceFit brute_force_fit(const std::vector<Vec3>& positions, std::size_t i, int k) {
+  std::vector<std::pair<double, std::size_t>> by_distance;
+  for (std::size_t j = 0; j < positions.size(); ++j) {
+    const Vec3 d = {positions[j][0] - positions[i][0], positions[j][1] - positions[i][1],
+                    positions[j][2] - positions[i][2]};
+    by_distance.push_back({dot(d, d), j});
+  }
+  std::sort(by_distance.begin(), by_distance.end());
+  const std::size_t count = std::min(std::size_t(k), positions.size());
+  // Offsets from point i, as the library takes them.
+  std::vector<Eigen::Vector3d> offsets;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (std::size_t s = 0; s < count; ++s) {
+    const Vec3& q = positions[by_distance[s].second];
+    offsets.emplace_back(q[0] - positions[i][0], q[1] - positions[i][1], q[2] - positions[i][2]);
+    centroid += offsets.back();
+  }
+  centroid /= double(count);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& o : offsets) covariance += (o - centroid) * (o - centroid).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  const Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();
+  const Eigen::Vector3d values = solver.eigenvalues();
+  return {{n[0], n[1], n[2]}, {values[0], values[1], values[2]}};
+}
+
 template <class Code>
 void expect_error(const std::function<void()>& call, ErrorCode code, const Code& needles) {
   try {
@@ -316,8 +353,8 @@ TEST(EstimateNormals, MstSeedsEveryConnectedComponent) {
 
 TEST(EstimateNormals, DuplicatedPointsAreHandled) {
   // Every point twice. A point's own index need not come first among its zero-distance results,
-  // yet with k' = 2 k + 1 each fit sees exactly the k + 1 original points twice over, which leaves
-  // the centroid and the normalised covariance, and so the normal, as in the original cloud.
+  // yet with k' = 2 k each fit sees exactly the k original points twice over, which leaves the
+  // centroid and the normalised covariance, and so the normal, as in the original cloud.
   constexpr int kOriginalK = 16;
   // Summing each offset twice changes only the rounding of the covariance.
   constexpr double kRoundingDegrees = 1e-6;
@@ -326,7 +363,7 @@ TEST(EstimateNormals, DuplicatedPointsAreHandled) {
   doubled.insert(doubled.end(), sphere.positions.begin(), sphere.positions.end());
 
   const std::vector<Vec3> original = estimate_normals(sphere.positions, params_with(Orientation::outward, kOriginalK));
-  const std::vector<Vec3> normals = estimate_normals(doubled, params_with(Orientation::outward, 2 * kOriginalK + 1));
+  const std::vector<Vec3> normals = estimate_normals(doubled, params_with(Orientation::outward, 2 * kOriginalK));
   expect_unit_normals(normals, doubled.size());
   for (std::size_t i = 0; i < doubled.size(); ++i) {
     const Vec3& expected = original[i % original.size()];
@@ -388,11 +425,32 @@ TEST(EstimateNormals, KLargerThanTheCloudIsClamped) {
   expect_unit_normals(normals, corners.size());
   for (const Vec3& n : normals) EXPECT_GT(n[2], 0.99);
 
-  // Three points is the smallest cloud: k = 3 is clamped to 2 and the fit is exact.
+  // Three points is the smallest cloud: k = 3 takes all three and the fit is exact.
   const std::vector<Vec3> triangle = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
   for (const Vec3& n : estimate_normals(triangle, params_with(Orientation::mst, 3))) {
     EXPECT_NEAR(std::abs(n[1]), 1.0, 1e-12);
   }
+}
+
+// EstimateParams::k counts the point itself, as PCL's setKSearch (`pcl_normal_estimation -k`)
+// and Open3D's KDTreeSearchParamKNN do: each normal is the PCA normal of the k nearest points,
+// the point included, found by brute force.
+TEST(EstimateNormals, KCountsThePointItselfAsPclAndOpen3dDo) {
+  // The kd-tree and the brute force find the same points; the fits differ only in rounding.
+  constexpr double kRoundingDegrees = 1e-6;
+  const Sample sphere = noisy_sphere(400, 21);
+  for (const int k : {3, 7, 16}) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    const std::vector<Vec3> normals = estimate_normals(sphere.positions, params_with(Orientation::outward, k));
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      ASSERT_LT(line_angle_degrees(normals[i], brute_force_fit(sphere.positions, i, k).normal), kRoundingDegrees)
+          << "point " << i;
+    }
+  }
+  // The corner's two nearest others lie in z = 0; the third is above it. k = 3 fits the plane
+  // z = 0 through the point and those two (with the point plus 3 others it would tilt).
+  const std::vector<Vec3> corner = {{0, 0, 0}, {1, 0, 0}, {0, 1.1, 0}, {0, 0, 1.5}};
+  EXPECT_NEAR(std::abs(estimate_normals(corner, params_with(Orientation::mst, 3))[0][2]), 1.0, 1e-12);
 }
 
 TEST(EstimateNormals, DegenerateNeighbourhoodsGiveFiniteNormals) {

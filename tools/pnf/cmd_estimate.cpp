@@ -48,9 +48,10 @@ int run_estimate(const EstimateFlags& flags) {
     file.set_normals(normals);
     write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
     if (!flags.quiet) {
-      // estimate_normals clamps k to N - 1 (N >= 3 here, or it would have thrown).
-      const std::size_t k = std::min(std::size_t(params.k), normals.size() - 1);
-      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %zu neighbours, oriented by %s, %.2f s%s\n",
+      // estimate_normals clamps k to N (N >= 3 here, or it would have thrown).
+      const std::size_t k = std::min(std::size_t(params.k), normals.size());
+      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %zu nearest points (itself included), oriented by %s, "
+                           "%.2f s%s\n",
                    normals.size(), k, to_string(params.orientation), seconds,
                    replaced ? " (replaced the file's normals)" : "");
       if (file.valid_count() != file.size()) {
@@ -67,10 +68,12 @@ int run_estimate(const EstimateFlags& flags) {
 
 Command add_estimate_command(CLI::App& parent) {
   auto flags = std::make_shared<EstimateFlags>();
-  CLI::App* app = parent.add_subcommand("estimate", "Estimate oriented normals (PCA on k nearest neighbours)");
+  CLI::App* app = parent.add_subcommand("estimate", "Estimate oriented normals (PCA over the k nearest points)");
   app->add_option("IN", flags->in, "input point file (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
-  app->add_option("--k", flags->params.k, "neighbours in each fit, at least 3")->capture_default_str();  // EstimateParams{}
+  app->add_option("--k", flags->params.k,
+                  "points in each fit, the point itself included (as PCL's -k and Open3D's KNN count), at least 3")
+      ->capture_default_str();  // EstimateParams{}
   app->add_option("--orient", flags->orient,
                   "mst: propagate over a minimum spanning tree (default); outward: away from the centroid; "
                   "viewpoint: toward --viewpoint (the default for a .pcd IN, toward its VIEWPOINT origin, as PCL "

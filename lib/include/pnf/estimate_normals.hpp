@@ -42,10 +42,13 @@ Orientation parse_orientation(const std::string& name);
 
 // Tunables of estimate_normals. Defaults are the in-class initialisers below.
 struct EstimateParams {
-  // Number of nearest other points used for the PCA fit and as edges of the mst graph. The fit
-  // uses the point itself plus its k nearest other points (k + 1 points). Range: k >= 3; there is
-  // no upper limit, but a k larger than N − 1 is clamped to N − 1 (every other point). Larger k
-  // smooths more and averages out more noise; smaller k keeps sharper features. Default 16.
+  // Number of points in each PCA fit, the point itself included, as PCL's NormalEstimation
+  // (setKSearch, `pcl_normal_estimation -k`) and Open3D's KDTreeSearchParamKNN count them: the
+  // fit uses the point and its k − 1 nearest other points, which are also its edges in the mst
+  // graph. (Before issue 32 pnf counted the other points only: its old k = 16 is today's 17.)
+  // Range: k >= 3; there is no upper limit, but a k larger than N is clamped to N (every point).
+  // Larger k smooths more and averages out more noise; smaller k keeps sharper features.
+  // Default 16.
   int k = 16;
   // How the sign of each normal is chosen; see Orientation. Default mst.
   Orientation orientation = Orientation::mst;
@@ -68,10 +71,10 @@ struct EstimateParams {
 //              positions[i]. Must not overlap positions. Written only after every check passed.
 //
 // Each normal is the eigenvector of the smallest eigenvalue of the covariance of point i and
-// its k nearest other points (Euclidean distance; ties broken by the kd-tree, deterministically)
-// about their centroid, i.e. the normal of their total-least-squares plane. Its sign is then set
-// as params.orientation says. Where the neighbourhood is degenerate (all k + 1 points
-// coincident) the normal is +z; where it is a line, it is some unit vector perpendicular to the
+// its k − 1 nearest other points (k points in all; Euclidean distance; ties broken by the
+// kd-tree, deterministically) about their centroid, i.e. the normal of their total-least-squares
+// plane. Its sign is then set as params.orientation says. Where the neighbourhood is degenerate
+// (all k points coincident) the normal is +z; where it is a line, it is some unit vector perpendicular to the
 // line. Neither case produces NaN. Duplicate points are allowed.
 //
 // Throws Error: ErrorCode::invalid_argument from params.validate() or when normals_out does not
@@ -98,5 +101,6 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
 // new vector.
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{},
                                    const ProgressCallback& progress = {});
+
 
 }  // namespace pnf

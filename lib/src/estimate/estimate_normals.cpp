@@ -19,7 +19,7 @@ namespace pnf {
 
 namespace {
 
-// The normal reported where the k + 1 fitted points coincide and no plane is defined. Any fixed
+// The normal reported where the k fitted points coincide and no plane is defined. Any fixed
 // unit vector would do; +z agrees with the mst seed rule.
 constexpr Vec3 kDegenerateNormal = {0.0, 0.0, 1.0};
 
@@ -39,7 +39,8 @@ detail::CloudRequirements estimate_requirements() {
   return requirements;
 }
 
-// The total-least-squares normal of point i and its neighbour row. Offsets are taken from p_i,
+// The total-least-squares normal of point i and its neighbour row (its table.k nearest other
+// points, so table.k + 1 = EstimateParams::k points in all). Offsets are taken from p_i,
 // not from the origin, so that far-from-origin clouds lose no digits; the covariance is summed
 // about the centroid in a second pass for the same reason.
 Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable& table, std::size_t point) {
@@ -133,14 +134,15 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
                                                  std::to_string(positions.count) + " points");
   }
   const std::size_t n = positions.count;
-  const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(params.k), n - 1));
+  // The k nearest points include the point itself (PCL's and Open3D's count): k − 1 others.
+  const int others = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(params.k) - 1, n - 1));
   const Vec3 centre = bounding_box(positions).centre();
   // Curve order puts spatial neighbours near each other in memory: the kd-tree queries, PCA
   // gathers and mst traversal run several times faster than in a scan's row order.
   const std::vector<std::uint32_t> order = detail::morton_order(positions);
   std::vector<Vec3> sorted(n);
   for (std::size_t s = 0; s < n; ++s) sorted[s] = positions.at(order[s]);
-  // The k nearest other points of every point, by an exact kd-tree search. Coordinates are taken
+  // The k − 1 nearest other points of every point, by an exact kd-tree search. Coordinates are taken
   // relative to the bounding-box centre so that a translated cloud gives the same neighbours, up
   // to rounding at the scale of the cloud rather than of its offset.
   std::vector<double> centred(3 * n);
@@ -155,7 +157,7 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
       return true;
     };
   }
-  const detail::NeighbourTable neighbours = detail::SpatialIndex(std::move(centred)).nearest_table(k, poll);
+  const detail::NeighbourTable neighbours = detail::SpatialIndex(std::move(centred)).nearest_table(others, poll);
   report(progress, ProgressStage::lists, stage_start, 1.0);
 
   // The fits, a block of points at a time so that the calling thread can report between blocks.
