@@ -453,6 +453,38 @@ TEST(EstimateNormals, KCountsThePointItselfAsPclAndOpen3dDo) {
   EXPECT_NEAR(std::abs(estimate_normals(corner, params_with(Orientation::mst, 3))[0][2]), 1.0, 1e-12);
 }
 
+// The curvature overload gives PCL's surface variation lambda0 / (lambda0 + lambda1 + lambda2) of
+// the same fit, by brute force; 0 on a plane and for coincident points (PCL's value there), and
+// the same normals as the plain call.
+TEST(EstimateNormals, CurvatureIsPclsSurfaceVariation) {
+  // The ratio's rounding: a 3 x 3 eigenvalue solve is accurate to a few epsilon of the largest
+  // eigenvalue, so the ratio to their sum is too; this is far above that.
+  constexpr double kTolerance = 1e-9;
+  const Sample sphere = noisy_sphere(400, 22);
+  for (const int k : {4, 16}) {
+    SCOPED_TRACE("k = " + std::to_string(k));
+    const EstimateParams params = params_with(Orientation::outward, k);
+    std::vector<double> curvature = {1.0};  // replaced
+    const std::vector<Vec3> normals = estimate_normals(sphere.positions, curvature, params);
+    EXPECT_EQ(normals, estimate_normals(sphere.positions, params));
+    ASSERT_EQ(curvature.size(), sphere.positions.size());
+    for (std::size_t i = 0; i < curvature.size(); ++i) {
+      const std::array<double, 3> lambda = brute_force_fit(sphere.positions, i, k).eigenvalues;
+      const double expected = lambda[0] / (lambda[0] + lambda[1] + lambda[2]);
+      ASSERT_NEAR(curvature[i], expected, kTolerance) << "point " << i;
+      ASSERT_LE(curvature[i], 1.0 / 3.0 + 1e-12) << "point " << i;
+    }
+  }
+  std::vector<Vec3> plane;
+  for (int i = 0; i < 30; ++i) plane.push_back({0.1 * (i % 6), 0.13 * (i / 6), 2.0});
+  std::vector<double> flat;
+  estimate_normals(plane, flat, params_with(Orientation::mst, 8));
+  for (const double c : flat) EXPECT_NEAR(c, 0.0, 1e-15);
+  std::vector<double> coincident;
+  estimate_normals(std::vector<Vec3>(10, Vec3{1, 2, 3}), coincident, params_with(Orientation::mst));
+  EXPECT_EQ(coincident, std::vector<double>(10, 0.0));
+}
+
 TEST(EstimateNormals, DegenerateNeighbourhoodsGiveFiniteNormals) {
   // All points coincident: no plane exists; the documented answer is +z.
   const std::vector<Vec3> coincident(20, Vec3{0.5, -2.0, 3.0});

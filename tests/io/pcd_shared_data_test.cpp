@@ -3,7 +3,9 @@
 // (estimate -> filter -> read back), skipped when the data folder is absent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +15,7 @@
 
 #include "cli/cli_test_support.hpp"
 #include "pcd_test_files.hpp"
+#include "pnf/estimate_normals.hpp"
 #include "pnf/point_file.hpp"
 
 namespace pnf {
@@ -82,6 +85,61 @@ TEST_F(PcdCli, EstimateOrientsTowardTheViewpointUnlessTold) {
   EXPECT_EQ(told.pcd_header()->data, PcdData::ascii);
   EXPECT_EQ(told.size(), 100u);
   EXPECT_EQ(told.valid_count(), 98u);
+}
+
+// PCL's NormalEstimation writes a curvature field beside the normals. `estimate` replaces it with
+// the surface variation of its own fits (the library's, checked against brute force in
+// EstimateNormals.CurvatureIsPclsSurfaceVariation) rather than leaving the stale values; other
+// fields stay as they were, and an invalid point keeps NaN.
+TEST_F(PcdCli, EstimateWritesPclsCurvature) {
+  const std::vector<TestField> fields = {{"x", 'F', 4, 1},        {"y", 'F', 4, 1},        {"z", 'F', 4, 1},
+                                         {"rgba", 'U', 4, 1},     {"normal_x", 'F', 4, 1}, {"normal_y", 'F', 4, 1},
+                                         {"normal_z", 'F', 4, 1}, {"curvature", 'F', 4, 1}};
+  constexpr int kSide = 8;
+  constexpr float kStale = 0.25f;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::string rows;
+  std::vector<Vec3> positions;
+  for (int r = 0; r < kSide; ++r) {
+    for (int c = 0; c < kSide; ++c) {
+      const bool hole = r == 2 && c == 5;
+      // A parabolic cylinder: curved along x, straight along y.
+      const float x = 0.1f * float(c), y = 0.1f * float(r), z = hole ? nan : 0.8f * x * x;
+      if (!hole) positions.push_back({double(x), double(y), double(z)});
+      rows += test::float_bytes(hole ? nan : x) + test::float_bytes(hole ? nan : y) + test::float_bytes(z) +
+              test::u32_le(0xff000000u + std::uint32_t(r * kSide + c)) + test::float_bytes(0) + test::float_bytes(0) +
+              test::float_bytes(1) + test::float_bytes(kStale);
+    }
+  }
+  test::write_whole_file(path("in.pcd"), test::test_pcd_header(fields, kSide, kSide, "binary") + rows);
+  const test::CliRun run = this->run({"estimate", path("in.pcd"), path("out.pcd"), "--k", "9"});
+  ASSERT_EQ(run.exit_code, 0) << run.describe();
+  EXPECT_TRUE(test::contains(run.err, "curvature")) << run.err;
+
+  EstimateParams params;
+  params.k = 9;
+  params.orientation = Orientation::viewpoint;  // the PCD default; the orientation does not change curvature
+  std::vector<double> expected;
+  estimate_normals(positions, expected, params);
+  const PointFile out = read_point_file(path("out.pcd"));
+  ASSERT_EQ(out.size(), std::size_t(kSide * kSide));
+  const std::vector<unsigned char>& values = out.element_values(0);
+  constexpr std::size_t kRowBytes = 32;
+  std::size_t point = 0;
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    float curvature;
+    std::memcpy(&curvature, values.data() + r * kRowBytes + 28, 4);
+    EXPECT_EQ(std::memcmp(values.data() + r * kRowBytes, rows.data() + r * kRowBytes, 16), 0) << "row " << r;
+    if (r == 2 * kSide + 5) {
+      EXPECT_TRUE(std::isnan(curvature)) << "the invalid point";
+      continue;
+    }
+    EXPECT_EQ(curvature, float(expected[point])) << "row " << r;
+    ++point;
+  }
+  // Curved along x: not the plane's 0, and not the stale value.
+  EXPECT_GT(*std::max_element(expected.begin(), expected.end()), 1e-4);
+  EXPECT_LT(*std::max_element(expected.begin(), expected.end()), double(kStale));
 }
 
 TEST_F(PcdCli, KinectCapturesEndToEnd) {

@@ -465,6 +465,42 @@ TEST(PointFile, ExtensionIsCaseInsensitive) {
   EXPECT_EQ(test::read_file(dir / "out.PwN"), "1 2 3 0 0 1\n");
 }
 
+// set_scalar_property replaces one float property (pnf estimate's curvature) and nothing else:
+// in ascii PLY every other token keeps its text; invalid points get NaN; coordinates, normals,
+// integer, absent properties and a wrong count are refused.
+TEST(PointFile, SetScalarPropertyReplacesOnlyThatProperty) {
+  TempDir dir;
+  test::write_file(dir / "in.ply",
+                   "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                   "property float z\nproperty float curvature\nproperty int label\nend_header\n"
+                   "0 0 0 0.50 +7\nnan nan nan 0.5 8\n1 0 0 0.5 9\n0 1 0 5e-1 10\n");
+  PointFile file = read_point_file((dir / "in.ply").string());
+  ASSERT_EQ(file.valid_count(), 3u);
+  EXPECT_TRUE(file.has_scalar_property("curvature"));
+  EXPECT_FALSE(file.has_scalar_property("intensity"));
+  file.set_scalar_property("curvature", {0.25, 0, 0.125});
+  WriteOptions ascii;
+  ascii.ascii = true;
+  write_point_file((dir / "out.ply").string(), file, ascii);
+  const std::string text = test::read_file(dir / "out.ply");
+  EXPECT_NE(text.find("end_header\n0 0 0 0.25 +7\nnan nan nan nan 8\n1 0 0 0 9\n0 1 0 0.125 10\n"), std::string::npos)
+      << text;
+  const auto expect_refused = [&](const std::string& name, const std::vector<double>& values, ErrorCode code,
+                                  const std::string& piece) {
+    try {
+      file.set_scalar_property(name, values);
+      ADD_FAILURE() << name << ": no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), code) << e.what();
+      EXPECT_NE(std::string(e.what()).find(piece), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("intensity", {1, 2, 3}, ErrorCode::invalid_argument, "no scalar property 'intensity'");
+  expect_refused("x", {1, 2, 3}, ErrorCode::invalid_argument, "coordinate or a normal");
+  expect_refused("label", {1, 2, 3}, ErrorCode::invalid_input, "integer");
+  expect_refused("curvature", {1, 2, 3, 4}, ErrorCode::invalid_argument, "4 values for 3 valid points");
+}
+
 TEST(TextFormats, XyzWithoutNormals) {
   TempDir dir;
   test::write_file(dir / "in.xyz", "# a comment\n\n1 2 3\n  -4.5e-3\t5 6\n\n# end\n");

@@ -41,11 +41,18 @@ int run_estimate(const EstimateFlags& flags) {
     }
     stage = Stage::running;
     auto start = std::chrono::steady_clock::now();
-    std::vector<Vec3> normals = estimate_normals(file.cloud().positions, params, progress_bar(flags.quiet));
+    // A `curvature` property (PCL's NormalEstimation writes one beside the normals) gets the
+    // surface variation of the same fits, as PCL computes it, rather than keeping stale values.
+    const bool curvature = file.has_scalar_property("curvature");
+    std::vector<double> variation;
+    std::vector<Vec3> normals =
+        curvature ? estimate_normals(file.cloud().positions, variation, params, progress_bar(flags.quiet))
+                  : estimate_normals(file.cloud().positions, params, progress_bar(flags.quiet));
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stage = Stage::writing;
     bool replaced = file.has_normals();
     file.set_normals(normals);
+    if (curvature) file.set_scalar_property("curvature", variation);
     write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
     if (!flags.quiet) {
       // estimate_normals clamps k to N (N >= 3 here, or it would have thrown).
@@ -54,6 +61,7 @@ int run_estimate(const EstimateFlags& flags) {
                            "%.2f s%s\n",
                    normals.size(), k, to_string(params.orientation), seconds,
                    replaced ? " (replaced the file's normals)" : "");
+      if (curvature) std::fprintf(stderr, "  curvature    the surface variation of each fit, as PCL computes it\n");
       if (file.valid_count() != file.size()) {
         std::fprintf(stderr, "  %zu invalid (NaN) points left out, kept in place with NaN normals\n",
                      file.size() - file.valid_count());
@@ -68,7 +76,10 @@ int run_estimate(const EstimateFlags& flags) {
 
 Command add_estimate_command(CLI::App& parent) {
   auto flags = std::make_shared<EstimateFlags>();
-  CLI::App* app = parent.add_subcommand("estimate", "Estimate oriented normals (PCA over the k nearest points)");
+  CLI::App* app = parent.add_subcommand(
+      "estimate",
+      "Estimate oriented normals (PCA over the k nearest points) and, into a curvature property where the file "
+      "has one, PCL's surface variation of each fit");
   app->add_option("IN", flags->in, "input point file (.ply, .pcd, .xyz, .xyzn, .pwn)")->required();
   app->add_option("OUT", flags->out, "output file; the format follows its extension")->required();
   app->add_option("--k", flags->params.k,

@@ -102,5 +102,13 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params = EstimateParams{},
                                    const ProgressCallback& progress = {});
 
+// The same, and the surface variation of each fit in `curvature_out` (resized to N; row i
+// belongs to positions[i]): lambda0 / (lambda0 + lambda1 + lambda2), the smallest eigenvalue of
+// the fit's covariance over their sum, as PCL's NormalEstimation writes it into its `curvature`
+// field (Pauly, Gross, Kobbelt 2002). Dimensionless, 0 on a plane, at most 1/3 (isotropic
+// spread); 0 where all k points coincide, as in PCL.
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, std::vector<double>& curvature_out,
+                                   const EstimateParams& params = EstimateParams{},
+                                   const ProgressCallback& progress = {});
 
 }  // namespace pnf

@@ -199,6 +199,16 @@ class PointFile {
   // the index of a bad normal or the wrong size, and invalid_input when the file's normal
   // properties have an integer type.
   void set_normals(const std::vector<Vec3>& normals);
+  // True when the vertex element has a scalar (not list) property `name`; for PCD, a field of
+  // COUNT 1 (e.g. PCL's "curvature").
+  bool has_scalar_property(const std::string& name) const;
+  // Replaces the values of the scalar vertex property `name` (not a coordinate or a normal
+  // component) with `values`: M of them, one per valid point in the order of cloud(), stored in
+  // the property's declared floating-point type (rounded to nearest for float). Invalid rows and
+  // points without normals get NaN, as PCL gives them. Throws invalid_argument when there is no
+  // such property, it is a coordinate or normal component, or `values` is not M long, and
+  // invalid_input when the property has an integer type.
+  void set_scalar_property(const std::string& name, const std::vector<double>& values);
 
   // The values of element `element` (index into header().elements) in the PLY
   // binary_little_endian body layout: rows back to back, each property in its declared type,

@@ -43,7 +43,11 @@ detail::CloudRequirements estimate_requirements() {
 // points, so table.k + 1 = EstimateParams::k points in all). Offsets are taken from p_i,
 // not from the origin, so that far-from-origin clouds lose no digits; the covariance is summed
 // about the centroid in a second pass for the same reason.
-Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable& table, std::size_t point) {
+// When `curvature` is given, it receives the fit's surface variation lambda0 / (lambda0 + lambda1
+// + lambda2) (0 for a degenerate fit, as PCL gives it).
+Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable& table, std::size_t point,
+                double* curvature) {
+  if (curvature) *curvature = 0.0;
   const Eigen::Vector3d origin(positions[point][0], positions[point][1], positions[point][2]);
   const int* row = table.row(point);
   const int fitted = table.k + 1;
@@ -71,6 +75,11 @@ Vec3 fit_normal(const std::vector<Vec3>& positions, const detail::NeighbourTable
   const double length = normal.norm();
   if (solver.info() != Eigen::Success || !std::isfinite(length) || length == 0.0) {
     return kDegenerateNormal;
+  }
+  if (curvature) {
+    // The eigenvalues sum to the trace (> 0 here); the smallest may round to a tiny negative.
+    const Eigen::Vector3d lambda = solver.eigenvalues();
+    *curvature = std::abs(lambda[0]) / (lambda[0] + lambda[1] + lambda[2]);
   }
   return Vec3{normal[0] / length, normal[1] / length, normal[2] / length};
 }
@@ -124,8 +133,11 @@ void EstimateParams::validate() const {
   }
 }
 
-void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, const EstimateParams& params,
-                      const ProgressCallback& progress) {
+namespace {
+
+// estimate_normals, with the surface variations into `curvature_out` (N values) when it is given.
+void estimate(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, double* curvature_out,
+              const EstimateParams& params, const ProgressCallback& progress) {
   params.validate();
   detail::check_cloud(CloudView(positions), estimate_requirements());
   if (normals_out.count != positions.count || (positions.count > 0 && normals_out.data == nullptr)) {
@@ -142,8 +154,8 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
   const std::vector<std::uint32_t> order = detail::morton_order(positions);
   std::vector<Vec3> sorted(n);
   for (std::size_t s = 0; s < n; ++s) sorted[s] = positions.at(order[s]);
-  // The k − 1 nearest other points of every point, by an exact kd-tree search. Coordinates are taken
-  // relative to the bounding-box centre so that a translated cloud gives the same neighbours, up
+  // The k − 1 nearest other points of every point, by an exact kd-tree search. Coordinates are
+  // taken relative to the bounding-box centre so that a translated cloud gives the same neighbours, up
   // to rounding at the scale of the cloud rather than of its offset.
   std::vector<double> centred(3 * n);
   for (std::size_t s = 0; s < n; ++s) {
@@ -166,11 +178,13 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
   stage_start = Clock::now();
   auto last_report = stage_start;
   std::vector<Vec3> sorted_normals(n);
+  std::vector<double> sorted_curvature(curvature_out ? n : 0);
   for (std::size_t block = 0; block < n; block += kFitBlock) {
     const auto stop = static_cast<std::int64_t>(std::min(n, block + kFitBlock));
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = static_cast<std::int64_t>(block); s < stop; ++s) {
-      sorted_normals[static_cast<std::size_t>(s)] = fit_normal(sorted, neighbours, static_cast<std::size_t>(s));
+      const auto point = static_cast<std::size_t>(s);
+      sorted_normals[point] = fit_normal(sorted, neighbours, point, curvature_out ? &sorted_curvature[point] : nullptr);
     }
     if (progress && std::chrono::duration<double>(Clock::now() - last_report).count() >= 0.2) {
       report(progress, ProgressStage::estimate, stage_start, (1 - kOrientShare) * double(stop) / double(n));
@@ -186,12 +200,31 @@ void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView norma
   }
   report(progress, ProgressStage::estimate, stage_start, 1.0);
   for (std::size_t s = 0; s < n; ++s) normals_out.set(order[s], sorted_normals[s]);
+  if (curvature_out) {
+    for (std::size_t s = 0; s < n; ++s) curvature_out[order[s]] = sorted_curvature[s];
+  }
+}
+
+}  // namespace
+
+void estimate_normals(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, const EstimateParams& params,
+                      const ProgressCallback& progress) {
+  estimate(positions, normals_out, nullptr, params, progress);
 }
 
 std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, const EstimateParams& params,
                                    const ProgressCallback& progress) {
   std::vector<Vec3> normals(positions.size());
   estimate_normals(Vec3ArrayView(positions), MutableVec3ArrayView(normals), params, progress);
+  return normals;
+}
+
+std::vector<Vec3> estimate_normals(const std::vector<Vec3>& positions, std::vector<double>& curvature_out,
+                                   const EstimateParams& params, const ProgressCallback& progress) {
+  std::vector<Vec3> normals(positions.size());
+  std::vector<double> curvature(positions.size());
+  estimate(Vec3ArrayView(positions), MutableVec3ArrayView(normals), curvature.data(), params, progress);
+  curvature_out.swap(curvature);
   return normals;
 }
 

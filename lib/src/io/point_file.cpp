@@ -104,13 +104,14 @@ void add_normal_properties(PointFile::Impl& impl) {
   }
 }
 
-// Replaces the normal tokens of the stored ascii vertex rows with the stored normal values;
-// every other token stays as read.
-void rewrite_vertex_tokens(PointFile::Impl& impl) {
+// Replaces the tokens of the vertex properties `rewritten_properties` (indices) in the stored
+// ascii vertex rows with their stored values; every other token stays as read.
+void rewrite_vertex_tokens(PointFile::Impl& impl, const std::vector<std::size_t>& rewritten_properties) {
   const PlyElement& vertex = impl.header.elements[impl.vertex_element];
   const std::vector<PlyProperty>& properties = vertex.properties;
   const std::string& text = impl.ascii_rows[impl.vertex_element];
-  const VertexFields& fields = impl.fields;
+  std::vector<bool> replaced(properties.size(), false);
+  for (const std::size_t p : rewritten_properties) replaced[p] = true;
   std::string rewritten;
   rewritten.reserve(text.size());
   RowLayout layout(properties);
@@ -127,7 +128,7 @@ void rewrite_vertex_tokens(PointFile::Impl& impl) {
     for (std::size_t p = 0; p < properties.size(); ++p) {
       if (p > 0) rewritten += ' ';
       const std::string_view token = next_token();
-      if (p == fields.nx || p == fields.ny || p == fields.nz) {
+      if (replaced[p]) {
         append_token(properties[p].type, row + layout.offset(p), rewritten);
         continue;
       }
@@ -317,7 +318,57 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
     }
     row += row_size;
   }
-  if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl);
+  if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl, {fields[0], fields[1], fields[2]});
+}
+
+bool PointFile::has_scalar_property(const std::string& name) const {
+  for (const PlyProperty& property : impl_->header.elements[impl_->vertex_element].properties) {
+    if (property.name == name && !property.is_list) return true;
+  }
+  return false;
+}
+
+void PointFile::set_scalar_property(const std::string& name, const std::vector<double>& values) {
+  constexpr const char* kWhere = "set_scalar_property";
+  Impl& impl = *impl_;
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  const std::vector<PlyProperty>& properties = vertex.properties;
+  std::size_t field = properties.size();
+  for (std::size_t p = 0; p < properties.size(); ++p) {
+    if (properties[p].name == name && !properties[p].is_list) field = p;
+  }
+  if (field == properties.size()) {
+    throw Error(ErrorCode::invalid_argument,
+                std::string(kWhere) + ": the vertex element has no scalar property '" + name + "'");
+  }
+  const std::size_t xyz[3] = {impl.fields.x, impl.fields.y, impl.fields.z};
+  const std::size_t normals[3] = {impl.fields.nx, impl.fields.ny, impl.fields.nz};
+  if (std::find(std::begin(xyz), std::end(xyz), field) != std::end(xyz) ||
+      std::find(std::begin(normals), std::end(normals), field) != std::end(normals)) {
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": '" + name +
+                                                 "' is a coordinate or a normal component (set_normals sets normals)");
+  }
+  if (is_integer(properties[field].type)) {
+    throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" + name + "' is declared '" +
+                                              properties[field].type_name + "', an integer type");
+  }
+  const std::size_t points = valid_count();
+  if (values.size() != points) {
+    throw Error(ErrorCode::invalid_argument, std::string(kWhere) + ": " + std::to_string(values.size()) +
+                                                 " values for " + std::to_string(points) +
+                                                 (impl.has_invalid_rows ? " valid points" : " vertices"));
+  }
+  RowLayout layout(properties);
+  unsigned char* row = impl.values[impl.vertex_element].data();
+  std::size_t i = 0;  // the next valid point
+  for (std::size_t r = 0; r < vertex.count; ++r) {
+    const std::size_t row_size = layout.measure(row);
+    const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
+    // As set_normals: a row left out of cloud() has no fit, so NaN (as PCL gives it).
+    store_real(properties[field].type, valid ? values[i++] : kNaN, row + layout.offset(field));
+    row += row_size;
+  }
+  if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl, {field});
 }
 
 const std::vector<unsigned char>& PointFile::element_values(std::size_t element) const {
