@@ -136,7 +136,7 @@ class PointFile:
         """(N,) float64 values of the vertex property `radius`, or None."""
     @property
     def format(self) -> str:
-        """"ply", "xyz", "xyzn" or "pwn": what the file was read from."""
+        """"ply", "pcd", "xyz", "xyzn" or "pwn": what the file was read from."""
     @property
     def encoding(self) -> str:
         """"ascii", "binary_little_endian" or "binary_big_endian"."""

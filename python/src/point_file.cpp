@@ -21,6 +21,7 @@ const char* format_name(PointFileFormat f) {
     case PointFileFormat::xyz: return "xyz";
     case PointFileFormat::xyzn: return "xyzn";
     case PointFileFormat::pwn: return "pwn";
+    case PointFileFormat::pcd: return "pcd";
   }
   return "ply";
 }

@@ -188,3 +188,11 @@ def test_pcl_nan_normals_are_kept_as_they_were(tmp_path):
     rows = [i for i in range(len(points)) if i not in invalid]
     nan_rows = np.isnan(everything.normals).all(axis=1)
     assert [rows[i] for i in np.flatnonzero(nan_rows)] == sorted(without)
+
+
+def test_format_names_a_pcd_file_pcd(tmp_path):
+    points, normals, _ = noisy_cube(4)
+    write_pcl_pcd(tmp_path / "cloud.pcd", points, normals, set(), set())
+    f = pnf.read(tmp_path / "cloud.pcd")
+    assert f.format == "pcd"
+    assert repr(f).startswith("<pnf.PointFile pcd ")

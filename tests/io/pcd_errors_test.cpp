@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pcd_test_files.hpp"
@@ -84,6 +85,16 @@ TEST(PcdErrors, FieldsThatAreNotPcd) {
   expect_pcd_error("keyword.pcd", header_lines("FIELDS x y z\nDEPTH 1\nDATA ascii\n"),
                    {"header line 4", "unknown keyword 'DEPTH'"});
   expect_pcd_error("nodata.pcd", header_lines("FIELDS x y z\nWIDTH 1\n"), {"the header has no DATA line"});
+  // The body right after the header's last line: named as a missing DATA line, binary bytes
+  // (starting with a NUL here) never quoted.
+  const std::string no_data = header_lines("FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nPOINTS 3\n");
+  for (const auto& [name, body] :
+       std::vector<std::pair<std::string, std::string>>{{"binary_body.pcd", xyz_rows(3)},
+                                                        {"ascii_body.pcd", "0 1 2\n1 1 2\n2 1 2\n"},
+                                                        {"nan_body.pcd", "nan nan nan\n1 1 2\n2 1 2\n"}}) {
+    SCOPED_TRACE(name);
+    expect_pcd_error(name, no_data + body, {"header line 9: point data where a header line should be", "no DATA line"});
+  }
   expect_pcd_error("viewpoint.pcd", header_lines("FIELDS x y z\nWIDTH 1\nVIEWPOINT 0 0 0 1 0 0\nDATA ascii\n"),
                    {"VIEWPOINT has 6 values (expected 7"});
   expect_pcd_error("empty.pcd", "", {"not a PCD file: the file is empty"});

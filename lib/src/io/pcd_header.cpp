@@ -32,6 +32,21 @@ constexpr PcdType kPcdTypes[] = {
     {'F', 8, PlyScalar::float64},
 };
 
+// True when `line` cannot be a header line but reads as a point's values: a byte outside
+// printable ASCII (a binary body), or every token a number (an ascii body, "nan" included).
+bool looks_like_point_data(std::string_view line, const std::vector<std::string_view>& tokens) {
+  for (const char c : line) {
+    const auto byte = static_cast<unsigned char>(c);
+    if ((byte < 0x20 && !is_blank_char(c)) || byte >= 0x7f) return true;
+  }
+  for (const std::string_view token : tokens) {
+    double value = 0;
+    const auto result = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (result.ec != std::errc() || result.ptr != token.data() + token.size()) return false;
+  }
+  return true;
+}
+
 class HeaderParser {
  public:
   explicit HeaderParser(ByteSource& source) : source_(source) {}
@@ -60,6 +75,13 @@ class HeaderParser {
       if (keyword == "DATA") {
         read_data(values);
         break;
+      }
+      if (looks_like_point_data(line, tokens)) {
+        // The body began where DATA should have been; its bytes are not quoted (a NUL would cut
+        // the message short).
+        fail_line(
+            "point data where a header line should be: the header has no DATA line (DATA ascii, binary or "
+            "binary_compressed) before it");
       }
       read_line(keyword, values);
     }
