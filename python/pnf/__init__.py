@@ -4,7 +4,9 @@ numpy in, numpy out. Arrays of points and normals are (N, 3), float32 or float64
 layout: C order, Fortran order, a slice such as ``a[:, 3:6]`` of a wider array, a negative step.
 Those are read in place, without a copy. Anything else numpy can turn into real numbers (lists,
 integer or float16 arrays, byte-swapped, unaligned or broadcast arrays) is first copied into a
-new float64 array. Results are new C-ordered float64 arrays (uint8 for images).
+new float64 array. Results are new C-ordered arrays of the input's dtype: float32 when the
+array they stand for (the normals for improve_normals, the points for estimate_normals) is
+float32, else float64 (uint8 for images).
 
 improve_normals(..., out=array) writes the result into an array of the caller's (for example
 an Open3D cloud's own normals) instead of a new one.
@@ -19,6 +21,9 @@ False raises Cancelled (a RuntimeError), and Ctrl-C between passes KeyboardInter
 
 from __future__ import annotations
 
+import math
+import numbers
+import operator
 import os
 from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
@@ -47,6 +52,23 @@ __version__ = "0.1.0"
 ArrayLike = Any  # an (N, 3) or (N,) array, or anything numpy.asarray accepts
 PathLike = Union[str, "os.PathLike[str]"]
 
+# The range of the C int that counts (iterations, k, pixels, threads) are passed on as.
+_INT_RANGE = (-(2**31), 2**31 - 1)
+
+
+def _whole(name: str, value: Any) -> int:
+    """`value` as an int, or ValueError naming `name`: a count must be a whole number (2.0 is, 2.7
+    is not) that fits a C int. Its own range (iterations >= 0, k >= 3, ...) the library checks."""
+    try:
+        whole = operator.index(value)
+    except TypeError:
+        if not (isinstance(value, numbers.Real) and math.isfinite(value) and float(value).is_integer()):
+            raise ValueError(f"{name} must be a whole number, got {value!r}") from None
+        whole = int(value)
+    if not _INT_RANGE[0] <= whole <= _INT_RANGE[1]:
+        raise ValueError(f"{name} = {whole} is out of range ({_INT_RANGE[0]} to {_INT_RANGE[1]})")
+    return whole
+
 
 def improve_normals(
     points: ArrayLike,
@@ -66,17 +88,19 @@ def improve_normals(
     out: Optional[ArrayLike] = None,
     max_seconds: Optional[float] = None,
 ) -> Any:
-    """Improves the normals of a point cloud; returns the new (N, 3) float64 unit normals.
+    """Improves the normals of a point cloud; returns the new (N, 3) unit normals, float32 when
+    `normals` is float32, else float64.
 
     points, normals: (N, 3) arrays (float32 or float64 read in place, see the module's doc);
         normals are oriented and need not be unit length.
     sigma_f: width of the spatial Gaussian; neighbours reach 2 sigma_f. Default 4.
     sigma_g: width of the feature Gaussian on the distance to a neighbour's tangent plane;
         smaller keeps edges sharper. Default 0.5.
-    iterations: passes, each using the previous pass's normals. Default 4.
+    iterations: passes, each using the previous pass's normals: a whole number >= 0. Default 4.
     units: "radius" (sigmas are multiples of the mean surfel radius) or "absolute" (model units).
-    mean_radius: the mean surfel radius in model units; None: the mean of `radii` when given,
-        else estimated from the points (the median distance to the 4 nearest).
+    mean_radius: the mean surfel radius in model units, finite and > 0; None: the mean of
+        `radii` when given, else estimated from the points (the median distance to the 4
+        nearest).
     auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto`` (see
         choose_params); then sigma_f, sigma_g, iterations, units and mean_radius must be left
         at their defaults.
@@ -101,14 +125,19 @@ def improve_normals(
 
     Raises ValueError (bad parameters or data), DeviceError, Cancelled, KeyboardInterrupt.
     """
+    if mean_radius is not None and not (math.isfinite(float(mean_radius)) and float(mean_radius) > 0):
+        # The library reads 0 as "from the data"; here None says that, so 0 is a mistake.
+        raise ValueError(f"invalid filter parameter mean_radius = {mean_radius}: must be finite and > 0 "
+                         "(None: from the data)")
     return _pnf.improve_normals(
-        points, normals, float(sigma_f), float(sigma_g), int(iterations), units, mean_radius, bool(auto),
+        points, normals, float(sigma_f), float(sigma_g), _whole("iterations", iterations), units,
+        None if mean_radius is None else float(mean_radius), bool(auto),
         device, backend, progress, radii, stop_change_deg, out, max_seconds,
     )
 
 
 def choose_params(
-    points: ArrayLike, normals: Optional[ArrayLike] = None, device: Optional[str] = None, backend: str = "opencl"
+    points: ArrayLike, normals: Optional[ArrayLike] = None, *, device: Optional[str] = None, backend: str = "opencl"
 ) -> AutoChoice:
     """What ``pnf filter --auto`` would pick for this cloud, and what it measured.
 
@@ -127,20 +156,20 @@ def choose_params(
 
 
 def estimate_normals(
-    points: ArrayLike, k: int = 16, orient: str = "mst", viewpoint: Sequence[float] = (0.0, 0.0, 0.0)
+    points: ArrayLike, *, k: int = 16, orient: str = "mst", viewpoint: Sequence[float] = (0.0, 0.0, 0.0)
 ) -> np.ndarray:
     """Oriented unit normals for points that have none: a PCA fit over each point's k nearest
     points, the point itself included (as PCL's setKSearch and Open3D's KDTreeSearchParamKNN
     count them; k larger than N means all N), oriented by `orient`: "mst" (minimum spanning tree
     propagation, Hoppe 1992), "outward" (away from the centroid) or "viewpoint" (toward
-    `viewpoint`). Needs N >= 3 and k >= 3. Returns an (N, 3) float64 array. float32/float64
-    points are read in place.
+    `viewpoint`). Needs N >= 3 and k >= 3. Returns an (N, 3) array, float32 for float32 points,
+    else float64. float32/float64 points are read in place.
     Ctrl-C interrupts it within about 0.2 s (KeyboardInterrupt).
     """
-    return _pnf.estimate_normals(points, int(k), orient, tuple(float(v) for v in viewpoint))
+    return _pnf.estimate_normals(points, _whole("k", k), orient, tuple(float(v) for v in viewpoint))
 
 
-def read(path: PathLike, check_normals: bool = True) -> PointFile:
+def read(path: PathLike, *, check_normals: bool = True) -> PointFile:
     """Reads a point file (.ply in any encoding, .pcd, .xyz, .xyzn, .pwn) losslessly: the
     PointFile keeps every element, property, comment and value, and writes them back unchanged.
 
@@ -183,7 +212,7 @@ def write(
             raise ValueError("radii cannot be replaced in an existing PointFile")
     else:
         file = PointFile(file_or_points, normals, radii)
-    file.write(path, bool(ascii))
+    file.write(path, ascii=bool(ascii))
 
 
 def devices(selector: Optional[str] = None) -> list[DeviceInfo]:
@@ -223,7 +252,7 @@ def render(
     if frame is not None:
         frame_arg = (tuple(float(v) for v in frame[0]), tuple(float(v) for v in frame[1]))
     return _pnf.render(
-        points, normals, radii, int(width), int(height), float(azimuth), float(elevation),
+        points, normals, radii, _whole("width", width), _whole("height", height), float(azimuth), float(elevation),
         tuple(float(v) for v in light), mode, reference_normals, float(error_max), float(radius_scale),
-        frame_arg, int(threads),
+        frame_arg, _whole("threads", threads),
     )

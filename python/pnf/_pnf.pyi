@@ -114,17 +114,24 @@ class DeviceInfo:
 class PointFile:
     """The contents of a point file, kept whole: every element, property, comment and value.
 
-    PointFile(points, normals=None, radii=None) makes a new one (double x y z [nx ny nz] [radius]).
+    PointFile(points, normals=None, radii=None) makes a new one (double x y z [nx ny nz] [radius]);
+    pnf.read(path) reads one. len(f) counts every row of the file; f.points and f.normals hold the
+    points pnf works on, which in a .pcd or .ply can be fewer: rows with NaN coordinates (PCL's
+    invalid pixels) and rows with NaN normals (f.without_normals) stay in the file, in their
+    places, but are not among them.
     """
     def __init__(self, points: Any, normals: Optional[Any] = None, radii: Optional[Any] = None) -> None: ...
     def __len__(self) -> int: ...
     @property
     def points(self) -> np.ndarray:
-        """(N, 3) float64 positions: a new array on each access (the file keeps its own types)."""
+        """(M, 3) float64 positions of the points (M = len(f) less the rows left out, see the class),
+        in file order: a new array on each access (the file keeps its own types)."""
     @property
     def normals(self) -> Optional[np.ndarray]:
-        """(N, 3) float64 normals, or None. Setting stores them in the file's declared type
-        (float stays float), adding float nx ny nz to a PLY that had none."""
+        """(M, 3) float64 normals of the same points, or None. Setting takes one row per row of
+        .points (not len(f)), stores them in the file's declared type (float stays float), adds
+        float nx ny nz to a PLY (normal_x normal_y normal_z to a PCD) that had none, and gives the
+        rows left out NaN normals."""
     @normals.setter
     def normals(self, value: Any) -> None: ...
     @property
@@ -133,7 +140,7 @@ class PointFile:
         of points and normals and written back with NaN normals; 0 with check_normals=False."""
     @property
     def radii(self) -> Optional[np.ndarray]:
-        """(N,) float64 values of the vertex property `radius`, or None."""
+        """(M,) float64 values of the vertex property `radius` for the points of .points, or None."""
     @property
     def format(self) -> str:
         """"ply", "pcd", "xyz", "xyzn" or "pwn": what the file was read from."""
@@ -146,7 +153,9 @@ class PointFile:
     @property
     def comments(self) -> list[str]:
         """The header's comment and obj_info lines."""
-    def write(self, path: _Path, ascii: bool) -> None: ...
+    def write(self, path: _Path, *, ascii: bool = False) -> None:
+        """Writes the file, in the format its extension names, with everything it carries. ascii:
+        PLY only, ascii instead of binary little endian (a PCD keeps its DATA encoding)."""
     def copy(self) -> PointFile: ...
 
 def improve_normals(

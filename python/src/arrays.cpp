@@ -82,6 +82,9 @@ void HeldBuffer::release() {
 
 Vec3Input::Vec3Input(py::handle object, const char* name) {
   array_ = as_real_array(object, name, 2, "an (N, 3)", &copied_);
+  if (py::str(array_.attr("dtype").attr("name")).cast<std::string>() == "float32") {
+    result_type_ = ScalarType::float32;
+  }
   ScalarType type = ScalarType::float64;
   buffer_.acquire(array_);
   const Py_buffer* b = &buffer_.get();
@@ -152,13 +155,14 @@ Vec3InOut::Vec3InOut(py::handle object, const char* name) {
   view_ = MutableVec3ArrayView(n > 0 ? b.buf : nullptr, n, type, n > 1 ? b.strides[0] : 0, b.strides[1]);
 }
 
-Vec3Output new_vec3_array(std::size_t n) {
+Vec3Output new_vec3_array(std::size_t n, ScalarType type) {
   Vec3Output out;
-  out.array = numpy().attr("empty")(py::make_tuple(n, 3), py::arg("dtype") = numpy().attr("float64"));
+  const bool single = type == ScalarType::float32;
+  out.array = numpy().attr("empty")(py::make_tuple(n, 3), py::arg("dtype") = single ? "float32" : "float64");
   HeldBuffer b;
   b.acquire(out.array);
   // The array is ours and C-ordered; its memory lives as long as out.array.
-  out.view = MutableVec3ArrayView(static_cast<double*>(b.get().buf), n);
+  out.view = MutableVec3ArrayView(b.get().buf, n, type);
   return out;
 }
 

@@ -54,12 +54,16 @@ class Vec3Input {
   bool copied() const { return copied_; }
   // The array whose memory the view reads (the input itself, or the converted copy).
   const py::object& array() const { return array_; }
+  // The dtype of a result made from this input: float32 for a float32 array (in any byte order
+  // or layout), float64 for anything else, so that numpy users get their input's dtype back.
+  ScalarType result_type() const { return result_type_; }
 
  private:
   py::object array_;
   HeldBuffer buffer_;
   Vec3ArrayView view_;
   bool copied_ = false;
+  ScalarType result_type_ = ScalarType::float64;
 };
 
 // N values (radii), as Vec3Input but one-dimensional.
@@ -99,12 +103,13 @@ class Vec3InOut {
   MutableVec3ArrayView view_;
 };
 
-// A new C-ordered (n, 3) float64 numpy array and a view that writes into it.
+// A new C-ordered (n, 3) numpy array of `type` (float64 by default) and a view that writes into
+// it.
 struct Vec3Output {
   py::object array;
   MutableVec3ArrayView view;
 };
-Vec3Output new_vec3_array(std::size_t n);
+Vec3Output new_vec3_array(std::size_t n, ScalarType type = ScalarType::float64);
 
 // A new C-ordered uint8 array of the given shape (height, width, 3) and its data pointer.
 py::object new_image_array(std::size_t height, std::size_t width, unsigned char** data);

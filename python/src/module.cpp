@@ -141,7 +141,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
     out.array = py::reinterpret_borrow<py::object>(out_array);
     out.view = given_out->view();
   } else {
-    out = new_vec3_array(p.size());
+    out = new_vec3_array(p.size(), n.result_type());
   }
 
   std::exception_ptr pending;
@@ -191,7 +191,7 @@ py::object estimate(py::handle points, int k, const std::string& orient, const s
   params.viewpoint = viewpoint;
   params.validate();
   Vec3Input p(points, "points");
-  Vec3Output out = new_vec3_array(p.size());
+  Vec3Output out = new_vec3_array(p.size(), p.result_type());
   // No user callable: the progress reports only run Python's signal handlers, so Ctrl-C raises
   // KeyboardInterrupt during a long estimate.
   std::exception_ptr pending;

@@ -71,13 +71,38 @@ py::list elements(const PointFile& file) {
   return out;
 }
 
+// The docstrings help(pnf.PointFile) shows; python/pnf/_pnf.pyi repeats them for type checkers.
+constexpr const char* kClassDoc =
+    "The contents of a point file, kept whole: every element, property, comment and value.\n\n"
+    "PointFile(points, normals=None, radii=None) makes a new one (double x y z [nx ny nz] [radius]);\n"
+    "pnf.read(path) reads one. len(f) counts every row of the file; f.points and f.normals hold the\n"
+    "points pnf works on, which in a .pcd or .ply can be fewer: rows with NaN coordinates (PCL's\n"
+    "invalid pixels) and rows with NaN normals (f.without_normals) stay in the file, in their\n"
+    "places, but are not among them.";
+constexpr const char* kPointsDoc =
+    "(M, 3) float64 positions of the points (M = len(f) less the rows left out, see the class),\n"
+    "in file order: a new array on each access (the file keeps its own types).";
+constexpr const char* kNormalsDoc =
+    "(M, 3) float64 normals of the same points, or None. Setting takes one row per row of\n"
+    ".points (not len(f)), stores them in the file's declared type (float stays float), adds\n"
+    "float nx ny nz to a PLY (normal_x normal_y normal_z to a PCD) that had none, and gives the\n"
+    "rows left out NaN normals.";
+constexpr const char* kWithoutNormalsDoc =
+    "Points with positions but NaN normals (as PCL's NormalEstimation leaves them), left out of\n"
+    "points and normals and written back with NaN normals; 0 when read with check_normals=False.";
+constexpr const char* kWriteDoc =
+    "write(path, *, ascii=False): writes the file, in the format its extension names, with\n"
+    "everything it carries. ascii: PLY only, ascii instead of binary little endian (a PCD keeps\n"
+    "its DATA encoding). Written to a temporary name and renamed into place; OSError on failure.";
+
 }  // namespace
 
 void bind_point_file(py::module_& m) {
-  py::class_<PointFile>(m, "PointFile")
+  py::class_<PointFile>(m, "PointFile", kClassDoc)
       .def(py::init(&from_arrays), "points"_a, "normals"_a.none(true) = py::none(), "radii"_a.none(true) = py::none())
-      .def("__len__", &PointFile::size)
-      .def_property_readonly("points", [](const PointFile& f) { return vec3_array(f.cloud().positions); })
+      .def("__len__", &PointFile::size, "The number of rows (vertices) of the file, left-out ones included.")
+      .def_property_readonly(
+          "points", [](const PointFile& f) { return vec3_array(f.cloud().positions); }, kPointsDoc)
       .def_property(
           "normals",
           [](const PointFile& f) -> py::object {
@@ -90,26 +115,38 @@ void bind_point_file(py::module_& m) {
             Vec3Input n(normals, "normals");
             check_same_size("normals", n.size(), "points", f.valid_count());
             f.set_normals(to_vectors(n.view()));
-          })
-      .def_property_readonly("without_normals", &PointFile::without_normals)
-      .def_property_readonly("radii",
-                             [](const PointFile& f) -> py::object {
-                               PointCloud c = f.cloud();
-                               if (!c.has_radii()) return py::none();
-                               py::object np = py::module_::import("numpy");
-                               return np.attr("array")(c.radii, "dtype"_a = "float64");
-                             })
-      .def_property_readonly("format", [](const PointFile& f) { return format_name(f.source_format()); })
-      .def_property_readonly("encoding", [](const PointFile& f) { return to_string(f.header().encoding); })
-      .def_property_readonly("elements", &elements)
-      .def_property_readonly("comments",
-                             [](const PointFile& f) {
-                               py::list out;
-                               for (const PlyComment& c : f.header().comments) out.append(c.keyword + " " + c.text);
-                               return out;
-                             })
-      .def("write", &write_file, "path"_a, "ascii"_a)
-      .def("copy", [](const PointFile& f) { return PointFile(f); })
+          },
+          kNormalsDoc)
+      .def_property_readonly("without_normals", &PointFile::without_normals, kWithoutNormalsDoc)
+      .def_property_readonly(
+          "radii",
+          [](const PointFile& f) -> py::object {
+            PointCloud c = f.cloud();
+            if (!c.has_radii()) return py::none();
+            py::object np = py::module_::import("numpy");
+            return np.attr("array")(c.radii, "dtype"_a = "float64");
+          },
+          "(M,) float64 values of the vertex property `radius` for the points of .points, or None.")
+      .def_property_readonly(
+          "format", [](const PointFile& f) { return format_name(f.source_format()); },
+          "\"ply\", \"pcd\", \"xyz\", \"xyzn\" or \"pwn\": what the file was read from.")
+      .def_property_readonly(
+          "encoding", [](const PointFile& f) { return to_string(f.header().encoding); },
+          "\"ascii\", \"binary_little_endian\" or \"binary_big_endian\": a PLY file's encoding (for other\n"
+          "formats, that of the equivalent PLY header).")
+      .def_property_readonly("elements", &elements,
+                             "Each element as {\"name\", \"count\", \"properties\": [(name, type), ...]}.")
+      .def_property_readonly(
+          "comments",
+          [](const PointFile& f) {
+            py::list out;
+            for (const PlyComment& c : f.header().comments) out.append(c.keyword + " " + c.text);
+            return out;
+          },
+          "The header's comment and obj_info lines.")
+      .def("write", &write_file, "path"_a, py::kw_only(), "ascii"_a = false, kWriteDoc)
+      .def(
+          "copy", [](const PointFile& f) { return PointFile(f); }, "An independent copy.")
       .def("__repr__", [](const PointFile& f) {
         return py::str("<pnf.PointFile {} {} points{}>")
             .format(format_name(f.source_format()), f.size(), f.has_normals() ? " with normals" : "");

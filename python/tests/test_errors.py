@@ -96,3 +96,41 @@ def test_other_functions_raise_value_error():
         pnf.render(P, N, mode="xray")
     with pytest.raises(ValueError):
         pnf.render(P, N, mode="error")  # needs reference normals
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"iterations": 2.7}, r"^iterations must be a whole number, got 2\.7$"),
+        ({"iterations": 10**10}, r"^iterations = 10000000000 is out of range \(-2147483648 to 2147483647\)$"),
+        ({"iterations": "4"}, "iterations must be a whole number"),
+        ({"mean_radius": 0}, "mean_radius = 0: must be finite and > 0"),
+        ({"mean_radius": -1.5}, "mean_radius = -1.5"),
+        ({"mean_radius": float("nan")}, "mean_radius = nan"),
+    ],
+)
+def test_counts_and_mean_radius_get_a_short_clear_error(kwargs, match):
+    # A count is a whole number that fits a C int (not silently truncated, not a TypeError that
+    # prints the arrays); mean_radius <= 0 is an error, as the README says (None: from the data).
+    with pytest.raises(ValueError, match=match) as caught:
+        pnf.improve_normals(P, N, backend="reference", **kwargs)
+    assert len(str(caught.value)) < 120
+
+
+def test_a_whole_float_is_a_count_and_k_is_checked_too():
+    np.testing.assert_array_equal(pnf.improve_normals(P, N, backend="reference", iterations=2.0),
+                                  pnf.improve_normals(P, N, backend="reference", iterations=2))
+    with pytest.raises(ValueError, match="k must be a whole number, got 7.5"):
+        pnf.estimate_normals(P, k=7.5)
+
+
+def test_options_are_keyword_only_after_the_data(tmp_path):
+    # As improve_normals: the arrays (or the path) positional, everything else by name.
+    with pytest.raises(TypeError):
+        pnf.estimate_normals(P, 8)
+    with pytest.raises(TypeError):
+        pnf.choose_params(P, N, "cpu")
+    pnf.write(tmp_path / "cloud.ply", P, N)
+    with pytest.raises(TypeError):
+        pnf.read(tmp_path / "cloud.ply", False)
+    assert len(pnf.read(tmp_path / "cloud.ply", check_normals=False)) == len(P)

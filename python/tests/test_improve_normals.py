@@ -42,7 +42,7 @@ def test_equals_the_cli(cube, backend, cli, tmp_path, extra):
     assert worst < kCliToleranceDeg, f"module and CLI differ by up to {worst} degrees"
 
 
-def test_float32_and_strided_inputs_give_the_float64_answer(backend):
+def test_float32_and_strided_inputs_give_the_same_answer_in_their_dtype(backend):
     points, normals, _ = noisy_cube()
     # Values a float32 holds exactly, so all layouts below carry the same numbers.
     points = points.astype(np.float32).astype(np.float64)
@@ -61,7 +61,12 @@ def test_float32_and_strided_inputs_give_the_float64_answer(backend):
     for name, (p, n) in layouts.items():
         assert pnf._pnf._view_info(p)["copied"] == (name == "list (copied)"), name
         out = pnf.improve_normals(p, n, backend=backend)
-        np.testing.assert_array_equal(out, expected, err_msg=name)
+        # numpy users get the normals' dtype back: float32 in, the same normals rounded to float32 out.
+        single = name.startswith("float32")
+        assert out.dtype == (np.float32 if single else np.float64), name
+        np.testing.assert_array_equal(out, expected.astype(out.dtype), err_msg=name)
+    # The normals decide: float64 normals with float32 points give float64.
+    assert pnf.improve_normals(points.astype(np.float32), normals, backend=backend).dtype == np.float64
 
     # Every other row: compared with a packed copy of the same rows.
     every_other = pnf.improve_normals(points[::2], normals[::2], backend=backend)

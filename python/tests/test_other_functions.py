@@ -45,10 +45,13 @@ def test_estimate_k_counts_the_point_itself_as_pcl_and_open3d_do():
         assert abs(normals[i] @ expected) > 1 - 1e-9, i
 
 
-def test_estimate_accepts_float32():
+def test_estimate_accepts_float32_and_gives_float32_back():
     points = sphere().astype(np.float32)
-    np.testing.assert_array_equal(pnf.estimate_normals(points),
-                                  pnf.estimate_normals(points.astype(np.float64)))
+    normals = pnf.estimate_normals(points)
+    assert normals.dtype == np.float32
+    # The same fits as on the widened values, rounded to float32.
+    np.testing.assert_array_equal(normals, pnf.estimate_normals(points.astype(np.float64)).astype(np.float32))
+    assert pnf.estimate_normals(points.astype(np.float64)).dtype == np.float64
 
 
 def test_choose_params_reports_what_it_measured():

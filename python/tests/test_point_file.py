@@ -196,3 +196,34 @@ def test_format_names_a_pcd_file_pcd(tmp_path):
     f = pnf.read(tmp_path / "cloud.pcd")
     assert f.format == "pcd"
     assert repr(f).startswith("<pnf.PointFile pcd ")
+
+
+def test_help_shows_the_docstrings_and_write_needs_no_ascii(tmp_path):
+    import pydoc
+
+    text = pydoc.render_doc(pnf.PointFile, renderer=pydoc.plaintext)
+    assert "kept whole: every element, property, comment and value" in text
+    assert "Setting takes one row per row of" in text
+    assert "write(path, *, ascii=False)" in text
+    assert "NaN normals (as PCL's NormalEstimation leaves them)" in text
+    points, normals, _ = noisy_cube(4)
+    f = pnf.PointFile(points, normals)
+    f.write(tmp_path / "plain.ply")
+    assert pnf.read(tmp_path / "plain.ply").encoding == "binary_little_endian"
+    f.write(tmp_path / "text.ply", ascii=True)
+    assert pnf.read(tmp_path / "text.ply").encoding == "ascii"
+
+
+def test_normals_of_a_pcd_with_invalid_points_take_one_row_per_point(tmp_path):
+    # An organised scan's NaN pixels are not among f.points; setting f.normals takes one row per
+    # row of f.points, and the NaN pixels get NaN normals.
+    points, normals, _ = noisy_cube(6)
+    write_pcl_pcd(tmp_path / "scan.pcd", points, normals, set(), {0, 10, 11})
+    f = pnf.read(tmp_path / "scan.pcd")
+    assert len(f) == len(points) and len(f.points) == len(points) - 3
+    with pytest.raises(ValueError, match=f"normals has {len(points)} rows but points has {len(points) - 3}"):
+        f.normals = normals
+    f.normals = -np.delete(normals, [0, 10, 11], axis=0)
+    f.write(tmp_path / "out.pcd")
+    back = pnf.read(tmp_path / "out.pcd", check_normals=False)
+    np.testing.assert_allclose(back.normals, -np.delete(normals, [0, 10, 11], axis=0), atol=1e-6)
