@@ -86,17 +86,18 @@ const Model kModels[] = {
     {"bun_zipper", "bun_zipper.ply", "scan"},
 };
 
-// --auto, as `pnf filter --auto` runs it today (tools/pnf/cmd_filter.cpp): choose_filter_params
-// on the filter (the rule, cross-validated where it says so), then the filter with the chosen
-// params. The one place to change when --auto's internals change.
+// --auto, as `pnf filter --auto` runs it (tools/pnf/cmd_filter.cpp): improve_normals_auto, the
+// rule and its judged passes. The one place to change when --auto's entry point changes.
 struct AutoOutput {
   std::vector<Vec3> normals;
-  std::string rule;  // the choice, and the passes run
+  std::string rule;  // the choice, and what the judge kept
 };
 AutoOutput run_auto(const PointCloud& cloud, NormalFilter& filter) {
-  const AutoChoice choice = choose_filter_params(cloud, filter);
-  FilterResult result = filter.run(cloud, choice.params);
-  return {std::move(result.normals), choice.rule + "; " + std::to_string(result.summary.passes_run) + " passes run"};
+  AutoOutput out;
+  out.normals.resize(cloud.size());
+  const AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(out.normals), filter);
+  out.rule = run.choice.rule + "; " + run.choice.judged;
+  return out;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {

@@ -32,6 +32,7 @@ using geometry::kPi;
 // spacing (fandisk at 1.2% of its diagonal: about 5 spacings). Each is 4 times the last, so the
 // fitted radius doubles. The cylinder holds about a quarter of them: 16 points at the smallest.
 constexpr int kScales[] = {64, 256, 1024, 4096};
+constexpr int kScaleStep = 4;  // each scale's neighbours over the last's
 // At most this many neighbour look-ups per scale (samples x neighbours): bounds the cost on
 // any N while leaving hundreds of samples for the medians even at the largest scale.
 constexpr std::size_t kMaxLookupsPerScale = 1000000;
@@ -431,10 +432,14 @@ DataEstimate estimate_data(const CloudView& cloud) { return detail::estimate_dat
 
 detail::JudgeGeometry detail::judge_geometry(const DataEstimate& estimate) {
   JudgeGeometry g;
-  // The noise scale's neighbourhoods, as many samples as estimate_data fits there; a width that
-  // holds a sheet's own points: the clean floor's residual (the quadric's third-order terms) and
-  // the residual an edge fit is told by (kEdgeResidualPerNoise times the noise), in quadrature.
-  g.neighbours = estimate.fit_neighbours + 1;  // the sample too
+  // One scale above the noise scale (four times its points, up to the largest scale): at the
+  // noise scale itself the judge shares the errors of normals fitted to as many points (PCA over
+  // 64: the plane at 0.25 spacings of noise kept its input, 1.20 deg, where one scale up passed
+  // 0.22), and one scale up the weights still keep the fit on one sheet. As many samples as
+  // estimate_data fits at one scale; a width that holds a sheet's own points: the clean floor's
+  // residual (the quadric's third-order terms) and the residual an edge fit is told by
+  // (kEdgeResidualPerNoise times the noise), in quadrature.
+  g.neighbours = std::min(kScaleStep * estimate.fit_neighbours, kScales[std::size(kScales) - 1]) + 1;  // the sample too
   g.samples = std::min(kMaxSamples, kMaxLookupsPerScale / std::size_t(std::max(g.neighbours, 1)));
   g.width = std::hypot(kResidualFloorPerSpacing * estimate.area_spacing, kEdgeResidualPerNoise * estimate.position_noise);
   return g;

@@ -42,9 +42,14 @@ std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
   return candidates;
 }
 
-std::string detail::judged_heading(double input_rms_deg, std::size_t samples) {
+double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
+  return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
+}
+
+std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples) {
   return "judged against the surface fitted to the positions at " + std::to_string(samples) +
-         " points, RMS deg from the input (" + number(input_rms_deg) + ") by pass:";
+         " points (its own error " + number(own_error_deg) + " deg), RMS deg from the input (" +
+         number(input_rms_deg) + ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
 }
 
 std::string detail::judged_candidate(std::size_t candidate, const FilterParams& params,
@@ -82,9 +87,11 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   // A copy: normals_out may be the cloud's own normals.
   std::vector<double> best = unit_rows(cloud.normals);
   const double input_rms = judge.rms_deg(best.data());
-  double best_rms = input_rms;
+  const double own_error = judge.own_error_deg(best.data());
+  // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
+  double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::size_t best_candidate = 0;
-  std::string judged = detail::judged_heading(input_rms, judge.size());
+  std::string judged = detail::judged_heading(input_rms, own_error, judge.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.

@@ -30,9 +30,19 @@ FilterParams independent_errors_setting(const AutoChoice& choice);
 // PCA-16 normals: judged better, truly 0.5% worse than its input).
 std::vector<FilterParams> judged_candidates(const AutoChoice& choice);
 
+// The judged RMS (degrees) a pass must stay under to be kept instead of the input, given the
+// input's judged RMS and the judge's own error e (surface_judge.hpp): sqrt(input^2 - e^2) - e.
+// The judge's fits err by about e; an input whose errors are independent of the positions reads
+// e in quadrature above its true error, while a filtered normal, made from the same positions,
+// can share the judge's error and read up to e below its own. So a pass under this is truly
+// better than the input even then. On clean positions e is small and any judged gain counts; on
+// noisy ones, where the judge was fooled (the casting at 0.25% of its diagonal, exact normals:
+// 0 deg in, 8.6 out), only a gain larger than the judge's own error does.
+double rms_to_beat(double input_rms_deg, double own_error_deg);
+
 // AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
 // the outcome.
-std::string judged_heading(double input_rms_deg, std::size_t samples);
+std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples);
 std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
 std::string judged_outcome(std::size_t best_candidate, int passes_kept);
 

@@ -20,9 +20,14 @@ constexpr int kMinNeighbours = 12;
 // The angle (radians) between `n` and the normal of the quadric fitted in n's frame to the
 // sample's neighbours (`offsets`, `count` rows), each weighted by a Gaussian of width `width` on
 // its residual, starting from the residual to n's plane.
-double error_in_frame(const double* offsets, int count, Eigen::Vector3d n, double width) {
+struct FrameError {
+  double angle = 0;                 // radians
+  double slope_u = 0, slope_v = 0;  // the fitted surface's slope along the frame's tangents
+  double variance = 0;              // of the slope, from the weighted residuals (radians^2)
+};
+FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, double width) {
   const double length = n.norm();
-  if (!(length > 0) || !std::isfinite(length)) return 0;
+  if (!(length > 0) || !std::isfinite(length)) return {};
   n /= length;
   Vec3 a, b;
   geometry::tangent_basis({n.x(), n.y(), n.z()}, a, b);
@@ -33,7 +38,7 @@ double error_in_frame(const double* offsets, int count, Eigen::Vector3d n, doubl
     const Eigen::Vector3d o(offsets[3 * k], offsets[3 * k + 1], offsets[3 * k + 2]);
     reach = std::max(reach, o.norm());
   }
-  if (!(reach > 0)) return 0;
+  if (!(reach > 0)) return {};
   const double w_scale = width / reach;
   std::vector<Eigen::Matrix<double, 6, 1>> rows(static_cast<std::size_t>(count));
   std::vector<double> heights(static_cast<std::size_t>(count)), weights(static_cast<std::size_t>(count));
@@ -46,8 +51,9 @@ double error_in_frame(const double* offsets, int count, Eigen::Vector3d n, doubl
     weights[std::size_t(k)] = std::exp(-0.5 * r * r);
   }
   Eigen::Matrix<double, 6, 1> c = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 6> m;
   for (int step = 0; step < kReweightSteps; ++step) {
-    Eigen::Matrix<double, 6, 6> m = Eigen::Matrix<double, 6, 6>::Identity() * 1e-12;
+    m = Eigen::Matrix<double, 6, 6>::Identity() * 1e-12;
     Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
     for (int k = 0; k < count; ++k) {
       const auto& row = rows[std::size_t(k)];
@@ -61,7 +67,17 @@ double error_in_frame(const double* offsets, int count, Eigen::Vector3d n, doubl
     }
   }
   const double slope = std::hypot(c(1), c(2));
-  return std::isfinite(slope) ? std::atan(slope) : 0.0;
+  if (!std::isfinite(slope)) return {};
+  // The slope's variance: the weighted residuals' variance times (A^T W A)^-1's slope terms.
+  double rss = 0, weight = 0;
+  for (int k = 0; k < count; ++k) {
+    const double r = heights[std::size_t(k)] - rows[std::size_t(k)].dot(c);
+    rss += weights[std::size_t(k)] * r * r;
+    weight += weights[std::size_t(k)];
+  }
+  const Eigen::Matrix<double, 6, 6> inverse = m.inverse();
+  const double variance = weight > 6 ? rss / (weight - 6) * (inverse(1, 1) + inverse(2, 2)) : 0.0;
+  return {std::atan(slope), c(1), c(2), std::isfinite(variance) ? variance : 0.0};
 }
 
 }  // namespace
@@ -86,30 +102,83 @@ SurfaceJudge::SurfaceJudge(const SpatialIndex& index, std::size_t samples, int n
       const std::size_t self = std::size_t(s) * count / samples;
       ids_[std::size_t(s)] = self;
       index.nearest_of_point(self, k, ids.data(), distances.data());
+      // Nearest first, so that the first quarter of the rows is the next scale down's neighbourhood.
+      std::vector<std::size_t> order(k);
+      for (std::size_t j = 0; j < k; ++j) order[j] = j;
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return distances[a] < distances[b]; });
       double* out = &offsets_[std::size_t(s) * k * 3];
       for (std::size_t j = 0; j < k; ++j) {
-        for (int axis = 0; axis < 3; ++axis) out[3 * j + axis] = centred[ids[j] * 3 + axis] - centred[self * 3 + axis];
+        const std::size_t id = ids[order[j]];
+        for (int axis = 0; axis < 3; ++axis) out[3 * j + axis] = centred[id * 3 + axis] - centred[self * 3 + axis];
       }
     }
   }
 }
 
-double SurfaceJudge::sum_squared(const double* normals_xyz) const {
-  double sum = 0;
+SurfaceJudge::Sums SurfaceJudge::sums(const double* normals_xyz) const {
+  Sums sums;
+  if (empty()) return sums;
+  double squared = 0, variance = 0, inner_variance = 0;
   const std::size_t k = std::size_t(neighbours_);
-#pragma omp parallel for reduction(+ : sum) schedule(dynamic, 16)
+  // The next scale down: a quarter of the neighbours, the nearest.
+  const int inner = neighbours_ / 4;
+  std::vector<double> apart(ids_.size(), 0.0);
+#pragma omp parallel for reduction(+ : squared, variance, inner_variance) schedule(dynamic, 16)
   for (long long s = 0; s < static_cast<long long>(ids_.size()); ++s) {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
-    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], neighbours_, n, width_);
-    sum += a * a;
+    const double* offsets = &offsets_[std::size_t(s) * k * 3];
+    const FrameError e = error_in_frame(offsets, neighbours_, n, width_);
+    squared += e.angle * e.angle;
+    variance += e.variance;
+    if (inner >= kMinNeighbours) {
+      const FrameError near = error_in_frame(offsets, inner, n, width_);
+      const double a = std::atan(std::hypot(e.slope_u - near.slope_u, e.slope_v - near.slope_v));
+      apart[std::size_t(s)] = a * a;
+      inner_variance += near.variance;
+    }
   }
-  return sum;
+  // The median, not the mean: the fits at a sharp edge hold on to different faces at the two
+  // scales, and the minority of samples there would read as an uncertain judge everywhere. The
+  // squared distance of two Gaussian slopes is exponential, mean = median / ln 2.
+  auto middle = apart.begin() + std::ptrdiff_t(apart.size() / 2);
+  std::nth_element(apart.begin(), middle, apart.end());
+  const double n = double(ids_.size());
+  sums.squared = squared;
+  sums.variance = variance;
+  sums.inner_variance = inner_variance;
+  sums.disagreement = n * *middle / std::log(2.0);
+  return sums;
+}
+
+double SurfaceJudge::sum_squared(const double* normals_xyz) const {
+  if (empty()) return 0;
+  double squared = 0;
+  const std::size_t k = std::size_t(neighbours_);
+#pragma omp parallel for reduction(+ : squared) schedule(dynamic, 16)
+  for (long long s = 0; s < static_cast<long long>(ids_.size()); ++s) {
+    const std::size_t i = ids_[std::size_t(s)];
+    const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
+    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], neighbours_, n, width_).angle;
+    squared += a * a;
+  }
+  return squared;
 }
 
 double SurfaceJudge::rms_deg(const double* normals_xyz) const {
   if (empty()) return 0;
   return std::sqrt(sum_squared(normals_xyz) / double(ids_.size())) * 180 / geometry::kPi;
+}
+
+double SurfaceJudge::Sums::own_error_squared() const {
+  // The fits' noise, and what of the two scales' disagreement their noise does not explain: the
+  // bias of detail finer than the neighbourhood, or of a sheet the weights lost.
+  return variance + std::max(disagreement - variance - inner_variance, 0.0);
+}
+
+double SurfaceJudge::own_error_deg(const double* normals_xyz) const {
+  if (empty()) return 0;
+  return std::sqrt(sums(normals_xyz).own_error_squared() / double(ids_.size())) * 180 / geometry::kPi;
 }
 
 }  // namespace pnf::detail

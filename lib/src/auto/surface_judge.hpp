@@ -39,6 +39,19 @@ class SurfaceJudge {
   double rms_deg(const double* normals_xyz) const;
   // The sum over the samples of that angle squared (radians^2): a distributed run adds the ranks'.
   double sum_squared(const double* normals_xyz) const;
+  // The judge's own error (degrees, RMS over the samples), in the frames of `normals_xyz`: the
+  // noise of its fits (the slope's standard error from the weighted residuals), and the bias that
+  // shows as the fits moving between this scale and the next one down (the nearest quarter of
+  // each neighbourhood) by more than both fits' noise explains: detail finer than the
+  // neighbourhood, or a sheet the weights cannot hold on to (typical of the samples: a median).
+  double own_error_deg(const double* normals_xyz) const;
+  struct Sums {
+    double squared = 0;       // the judged angles squared (radians^2), summed over the samples
+    double disagreement = 0;  // the two scales' fits apart, squared: the samples' median / ln 2, times their count
+    double variance = 0, inner_variance = 0;  // the slopes' variances at the two scales, summed
+    double own_error_squared() const;         // summed over the samples: see own_error_deg
+  };
+  Sums sums(const double* normals_xyz) const;
 
  private:
   std::vector<std::size_t> ids_;

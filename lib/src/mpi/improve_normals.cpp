@@ -12,6 +12,7 @@
 #include "filter_engine.hpp"
 #include "halo.hpp"
 #include "geometry.hpp"
+#include "auto/judged_passes.hpp"
 #include "judged_run.hpp"
 #include "mean_radius_mpi.hpp"
 #include "own_comm.hpp"
@@ -47,21 +48,30 @@ class JudgedPasses {
       const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
     }
-    judging_.rms_by_pass.assign(1, summed_rms(best_));
+    const pnf::detail::SurfaceJudge::Sums input = judge_.empty() ? pnf::detail::SurfaceJudge::Sums{} : judge_.sums(best_.data());
+    double sums[5] = {input.squared, input.disagreement, input.variance, input.inner_variance, double(judge_.size())};
+    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
+    const pnf::detail::SurfaceJudge::Sums all{sums[0], sums[1], sums[2], sums[3]};
+    const double to_degrees = 180 / pnf::geometry::kPi;
+    judging_.rms_by_pass.assign(1, sums[4] > 0 ? std::sqrt(sums[0] / sums[4]) * to_degrees : 0.0);
+    judging_.own_error_deg = sums[4] > 0 ? std::sqrt(all.own_error_squared() / sums[4]) * to_degrees : 0.0;
+    // A pass must beat the input by more than the judge's own error explains.
+    best_rms_ = pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
     judging_.best_pass = 0;
   }
 
   void after_pass(const std::vector<double>& owned_normals) {
     const double rms = summed_rms(owned_normals);
     judging_.rms_by_pass.push_back(rms);
-    if (rms < judging_.rms_by_pass[std::size_t(judging_.best_pass)]) {
-      judging_.best_pass = int(judging_.rms_by_pass.size()) - 1;
+    const int pass = int(judging_.rms_by_pass.size()) - 1;
+    if (rms < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
+    if (rms < best_rms_) {
+      best_rms_ = rms;
+      judging_.best_pass = pass;
       best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
     }
   }
-  bool enough() const {
-    return int(judging_.rms_by_pass.size()) - 1 - judging_.best_pass >= judging_.passes_past_best;
-  }
+  bool enough() const { return int(judging_.rms_by_pass.size()) - 1 - best_here_ >= judging_.passes_past_best; }
   const std::vector<double>& best_normals() const { return best_; }
 
  private:
@@ -76,6 +86,8 @@ class JudgedPasses {
   std::size_t owned_;
   pnf::detail::SurfaceJudge judge_;
   std::vector<double> best_;
+  double best_rms_ = 0;  // to beat: the input's bar, then the best kept pass's
+  int best_here_ = 0;    // the lowest judged pass, the input included, for the end of the passes
 };
 
 using Clock = std::chrono::steady_clock;

@@ -17,6 +17,7 @@ struct PassJudging {
   int passes_past_best = 2;             // passes end when this many in a row did not beat the best
   std::vector<double> rms_by_pass;      // the judge's RMS (degrees) of the input, then each pass
   int best_pass = 0;                    // 0: the input
+  double own_error_deg = 0;             // the judge's own error (SurfaceJudge::own_error_deg)
 };
 
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's
