@@ -149,11 +149,12 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   run_released(pending, [&] {
     FilterParams run_params = params;
     NormalFilter filter(options);
-    if (automatic) {
-      run_params = choose_filter_params(view, filter, callback).params;
+    // Reads the caller's arrays in place and writes straight into the result array.
+    if (automatic) {  // as `pnf filter --auto`: the rule, then its passes judged
+      improve_normals_auto(view, out.view, filter, callback, stop_change_deg ? *stop_change_deg : -1.0);
+      return;
     }
     if (stop_change_deg) run_params.stop_change_deg = *stop_change_deg;
-    // Reads the caller's arrays in place and writes straight into the result array.
     filter.run(view, out.view, run_params, callback);
   });
   return out.array;
@@ -168,19 +169,12 @@ AutoChoice choose_params(py::handle points, py::handle normals, const std::optio
     check_same_size("normals", n->size(), "points", p.size());
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
-  const FilterOptions options = filter_options(device, backend);
-  // No callback to call, but Ctrl-C still stops a cross-validation within a pass.
-  const py::object no_callback = py::none();
+  // The device is no longer needed to choose (the passes that auto=True keeps are judged while it
+  // filters), but a bad name is still refused as before.
+  (void)filter_options(device, backend);
   std::exception_ptr pending;
-  const ProgressCallback callback = python_progress(no_callback, pending);
   AutoChoice choice;
-  run_released(pending, [&] {
-    choice = choose_filter_params(view);
-    // The filter is only built (and the device opened) where cross-validation needs it.
-    if (!needs_cross_validation(choice)) return;
-    NormalFilter filter(options);
-    choice = cross_validate_choice(view, choice, filter, callback);
-  });
+  run_released(pending, [&] { choice = choose_filter_params(view); });
   return choice;
 }
 
@@ -299,6 +293,7 @@ void bind_results(py::module_& m) {
       .def_readonly("rule", &AutoChoice::rule)
       .def_readonly("cross_validated", &AutoChoice::cross_validated)
       .def_readonly("rule_before_cross_validation", &AutoChoice::rule_before_cross_validation)
+      .def_readonly("judged", &AutoChoice::judged)
       .def_property_readonly("kwargs",
                              [](const AutoChoice& c) {
                                const FilterParams& f = c.params;

@@ -221,12 +221,12 @@ def test_ctrl_c_cancels_between_passes():
     assert "interrupted" in done.stdout
 
 
-def test_auto_matches_choose_params(cube):
-    points, normals, _ = cube
-    choice = pnf.choose_params(points, normals)
+def test_auto_is_never_worse_than_its_input(cube):
+    # The noisy cube: auto=True filters it (choose_params's rule, passes judged) and gains.
+    points, normals, truth = cube
+    assert pnf.choose_params(points, normals).rule
     a = pnf.improve_normals(points, normals, auto=True, backend="reference")
-    b = pnf.improve_normals(points, normals, backend="reference", **choice.kwargs)
-    np.testing.assert_array_equal(a, b)
+    assert angles_deg(a, truth).mean() < 0.5 * angles_deg(normals, truth).mean()
 
 
 def test_empty_cloud_gives_empty_normals():
@@ -244,20 +244,14 @@ def test_a_run_past_max_seconds_is_refused_with_the_numbers():
         pnf.improve_normals(points, normals, backend="reference", max_seconds=-1)
 
 
-def test_auto_cross_validates_independent_normal_errors_as_choose_params_does():
+def test_auto_judges_independent_normal_errors():
     from conftest import angles_deg, noisy_cube
 
-    # Tilted true normals: errors independent of the positions, as a scanner's. 3456 points, so
-    # the cross-validation has enough to hold an eighth out.
+    # Tilted true normals: errors independent of the positions, as a scanner's.
     points, normals, truth = noisy_cube(24)
     choice = pnf.choose_params(points, normals, backend="reference")
-    assert choice.cross_validated, choice.rule
-    assert "cross-validated" in choice.rule
-    assert "cross-validated" not in choice.rule_before_cross_validation
-    assert "independent of the positions" in choice.rule_before_cross_validation
+    assert "independent of the positions" in choice.rule
     a = pnf.improve_normals(points, normals, auto=True, backend="reference")
-    b = pnf.improve_normals(points, normals, backend="reference", **choice.kwargs)
-    np.testing.assert_array_equal(a, b)
     before = np.sqrt(np.mean(np.minimum(angles_deg(normals, truth), 180 - angles_deg(normals, truth)) ** 2))
     after = np.sqrt(np.mean(np.minimum(angles_deg(a, truth), 180 - angles_deg(a, truth)) ** 2))
     assert after < 0.5 * before, (before, after, choice.rule)

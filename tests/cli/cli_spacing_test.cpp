@@ -51,6 +51,8 @@ void expect_one_spacing(const CliRun& info, const CliRun& filter, const std::str
   EXPECT_EQ(m[1], from_info) << "--auto's mean radius is not info's\n" << info.out << filter.err;
   const std::string summary = filter.err.substr(filter.err.find("pnf filter:"));
   EXPECT_EQ(number_after(summary, "mean radius"), from_info) << "the run's radius is not info's\n" << filter.err;
+  // Nobody gave it: the summary says where it came from (issue 32), as --auto's report does.
+  EXPECT_EQ(summary.find("(given)"), std::string::npos) << filter.err;
 }
 
 TEST_F(CliTest, InfoAndAutoReportOneSpacing) {

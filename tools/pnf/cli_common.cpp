@@ -126,8 +126,8 @@ FilterOptions DeviceFlags::options() const {
 void print_auto(const AutoChoice& choice, double seconds) {
   const DataEstimate& e = choice.estimate;
   std::fprintf(stderr,
-               "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose in "
-               "%.2f s\n",
+               "pnf filter --auto: estimated from %zu of %zu points (fits of %d neighbours, radius %.4g), chose and "
+               "filtered in %.2f s\n",
                e.samples, e.points, e.fit_neighbours, e.fit_radius, seconds);
   std::fprintf(stderr, "  mean radius      %.6g model units (%s); area spacing %.6g\n", e.mean_radius,
                to_string(e.radius_source), e.area_spacing);

@@ -105,14 +105,15 @@ int run_filter(const FilterFlags& flags) {
     FilterResult result;
     if (flags.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
-      // The choice (cross-validated for input normals with independent errors), then its passes,
-      // each judged against the surface fitted to the positions; an explicit --stop-change (0
-      // included: off) wins over the rule's.
+      // The rule's choice, then its passes, each judged against the surface fitted to the
+      // positions; an explicit --stop-change (0 included: off) wins over the rule's.
       result.normals.resize(cloud.size());
       AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(result.normals), filter,
                                          progress_bar(flags.quiet), flags.stop_change);
       params = run.choice.params;
       result.summary = run.summary;
+      // The run was handed the estimate's mean radius; say where that came from, not "given".
+      result.summary.radius_source = run.choice.estimate.radius_source;
       if (!flags.quiet) print_auto(run.choice, seconds_since(t_auto));
     } else {
       result = filter.run(cloud, params, progress_bar(flags.quiet));
@@ -121,7 +122,12 @@ int run_filter(const FilterFlags& flags) {
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
     write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
-    if (!flags.quiet) print_summary(flags, params, result.summary, read_s, seconds_since(t));
+    if (!flags.quiet) {
+      print_summary(flags, params, result.summary, read_s, seconds_since(t));
+      if (file.without_normals() > 0) {
+        std::fprintf(stderr, "  kept         %zu points without normals (NaN) as they were\n", file.without_normals());
+      }
+    }
     return int(kOk);
   });
 }

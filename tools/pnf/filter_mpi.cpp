@@ -144,6 +144,7 @@ int run(const DistributedFilterRun& run, int rank, int ranks) {
           mpi::improve_normals_auto(comm, local, normals, run.options, progress, run.stop_change);
       params = judged.choice.params;
       summary = judged.summary;
+      summary.local.radius_source = judged.choice.estimate.radius_source;  // handed over, not "given"
       if (rank == 0 && !run.quiet) print_auto(judged.choice, seconds_since(t_auto));
     } else {
       summary = mpi::improve_normals(comm, local, normals, params, run.options, progress);
