@@ -101,9 +101,10 @@ def improve_normals(
     mean_radius: the mean surfel radius in model units, finite and > 0; None: the mean of
         `radii` when given, else estimated from the points (the median distance to the 4
         nearest).
-    auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto`` (see
-        choose_params); then sigma_f, sigma_g, iterations, units and mean_radius must be left
-        at their defaults.
+    auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto``: the
+        rule's setting (see choose_params), its passes each judged against the surface fitted to
+        the positions, the best kept (the input normals when no pass beats them); then sigma_f,
+        sigma_g, iterations, units and mean_radius must be left at their defaults.
     device: where to run, as pnf::Device::parse reads it: an OpenCL selector ("cpu", "gpu",
         "accelerator", "P:D" as devices() shows, or part of a name such as "pocl"), the same
         prefixed ("opencl:gpu"), or "reference"; None: the PNF_DEVICE variable, else the first
@@ -139,18 +140,19 @@ def improve_normals(
 def choose_params(
     points: ArrayLike, normals: Optional[ArrayLike] = None, *, device: Optional[str] = None, backend: str = "opencl"
 ) -> AutoChoice:
-    """What ``pnf filter --auto`` would pick for this cloud, and what it measured.
+    """The rule's setting ``pnf filter --auto`` starts from for this cloud, and what it measured.
 
-    Where the normals' errors look independent of the positions and of each other (as a
-    scanner's or a mesh's), the choice is cross-validated: an eighth of the points is held out,
-    the rest filtered at 15 (sigma_f, sigma_g) on `device` / `backend` (as in improve_normals),
-    and 60 settings scored; choice.cross_validated says so (10-50 s on 2 cores up to 400k points).
+    auto=True (improve_normals) then runs that setting pass by pass, judging each pass against
+    the surface fitted to the positions, and keeps the best pass, or the input normals when no
+    pass beats them by more than the judge's own error (docs/auto.md); so the passes it keeps are
+    known only once it has filtered. `device` and `backend` are checked but no longer needed
+    here (the choice no longer runs the filter).
 
-    Needs N >= 16 points. Returns an AutoChoice: sigma_f, sigma_g, iterations, stop_change_deg,
-    units, mean_radius (pnf's one mean radius, as `pnf info` reports it), rule (one line of text),
-    estimate (a DataEstimate: mean_radius, area_spacing, position_noise, normal_noise_deg,
-    feature_share, curved_share, ...), and kwargs, a
-    dict to pass on: ``pnf.improve_normals(p, n, **choice.kwargs)`` equals ``auto=True``.
+    Needs N >= 16 points. Returns an AutoChoice: sigma_f, sigma_g, iterations (the rule's, an
+    upper bound of what auto=True keeps is 8 or more), stop_change_deg, units, mean_radius (pnf's
+    one mean radius, as `pnf info` reports it), rule (one line of text), estimate (a
+    DataEstimate: mean_radius, area_spacing, position_noise, normal_noise_deg, feature_share,
+    curved_share, ...), and kwargs, a dict of the rule's setting for improve_normals.
     """
     return _pnf.choose_params(points, normals, device, backend)
 

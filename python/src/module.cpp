@@ -293,7 +293,6 @@ void bind_results(py::module_& m) {
       .def_readonly("rule", &AutoChoice::rule)
       .def_readonly("cross_validated", &AutoChoice::cross_validated)
       .def_readonly("rule_before_cross_validation", &AutoChoice::rule_before_cross_validation)
-      .def_readonly("judged", &AutoChoice::judged)
       .def_property_readonly("kwargs",
                              [](const AutoChoice& c) {
                                const FilterParams& f = c.params;
