@@ -202,15 +202,7 @@ Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vect
   return o;
 }
 
-std::string setting_text(const Setting& s) {
-  char text[64];
-  if (s.sigma_g >= 1e5) {
-    std::snprintf(text, sizeof text, "%g/off/%d", s.sigma_f, s.passes);
-  } else {
-    std::snprintf(text, sizeof text, "%g/%g/%d", s.sigma_f, s.sigma_g, s.passes);
-  }
-  return text;
-}
+std::string setting_text(const Setting& s) { return eval::setting_text(s.sigma_f, s.sigma_g, s.passes); }
 
 std::string auto_text(const Outcome& o) {
   char text[64];

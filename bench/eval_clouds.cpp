@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <stdexcept>
 
@@ -12,6 +13,27 @@
 namespace pnf::eval {
 
 using geometry::kPi;
+
+std::string setting_text(double sigma_f, double sigma_g, int passes) {
+  char text[64];
+  if (sigma_g >= 1e5) {
+    std::snprintf(text, sizeof text, "%g/off/%d", sigma_f, passes);
+  } else {
+    std::snprintf(text, sizeof text, "%g/%g/%d", sigma_f, sigma_g, passes);
+  }
+  return text;
+}
+
+std::string command_output(const char* command) {
+  std::string out;
+  if (FILE* p = popen(command, "r")) {
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    pclose(p);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
 
 Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }

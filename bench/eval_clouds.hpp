@@ -16,6 +16,13 @@ Vec3 scale(const Vec3& a, double s);
 double dot(const Vec3& a, const Vec3& b);
 Vec3 unit(const Vec3& a);
 
+// A filter setting as the evaluations print it: "sigma_f/sigma_g/passes", sigma_g "off" from 1e5.
+std::string setting_text(double sigma_f, double sigma_g, int passes);
+
+// What a shell command printed on stdout, trailing newlines removed ("" when it cannot run): the
+// benches' commit stamp.
+std::string command_output(const char* command);
+
 // RMS of the angle between lines (min(t, 180 - t)), in degrees.
 double rms_line_angle(const std::vector<Vec3>& normals, const std::vector<Vec3>& truth);
 
@@ -37,7 +44,8 @@ Shape make_rounded_box(std::size_t points, unsigned seed);
 
 // Gaussian noise of `sigma` (model units) per axis.
 void add_noise(std::vector<Vec3>& positions, double sigma, unsigned seed);
-// PCA normals over k neighbours, turned to the true side (a sign only).
+// PCA normals over k points (the point itself included, as EstimateParams::k counts), turned to
+// the true side (a sign only).
 std::vector<Vec3> pca_normals(const std::vector<Vec3>& positions, const std::vector<Vec3>& truth, int k);
 // The true normals, each tilted by a Gaussian angle of `rms_degrees` RMS.
 std::vector<Vec3> jittered_normals(const std::vector<Vec3>& truth, double rms_degrees, unsigned seed);

@@ -7,9 +7,8 @@
 // by --seed and the model's name, not its place in --models). Per noise level (a fraction of the
 // diagonal: Gaussian position noise of that sigma per axis) and input normals:
 //   exact     the truth itself (a sanity row: its input error must be 0);
-//   pca16     PCA over the point and its k = EstimateParams{}.k (16) nearest other points, what
-//             `pnf estimate` does by default (tools/pnf/cmd_estimate.cpp: estimate_normals with
-//             EstimateParams defaults; k counts the other points, the fit uses k + 1);
+//   pca16     PCA over the k = EstimateParams{}.k (16) nearest points, the point itself included
+//             (as PCL and Open3D count k), what `pnf estimate` does by default;
 //   pca64     the same with k = 64;
 //   jitter10  the true normals, each tilted by a Gaussian angle of 10 degrees RMS (independent
 //             errors, as a scanner's or a mesh's).
@@ -57,7 +56,7 @@ using pnf::detail::kGridSigmaG;
 
 // The jittered input normals' RMS tilt, degrees.
 constexpr double kJitterRmsDeg = 10;
-// The larger PCA neighbourhood (other points, as EstimateParams::k counts).
+// The larger PCA neighbourhood (points, the point itself included, as EstimateParams::k counts).
 constexpr int kWidePcaNeighbours = 64;
 // "auto / best" is shown only where the best is above this RMS (degrees): below it (the exact
 // input) the ratio is 0/0 or noise.
@@ -129,14 +128,7 @@ struct ModelInfo {
 };
 
 std::string setting_text(const Setting& s) {
-  if (s.passes == 0) return "input";
-  char text[64];
-  if (s.sigma_g >= 1e5) {
-    std::snprintf(text, sizeof text, "%g/off/%d", s.sigma_f, s.passes);
-  } else {
-    std::snprintf(text, sizeof text, "%g/%g/%d", s.sigma_f, s.sigma_g, s.passes);
-  }
-  return text;
+  return s.passes == 0 ? "input" : eval::setting_text(s.sigma_f, s.sigma_g, s.passes);
 }
 
 std::string error_text(const AngleError& e) {
@@ -185,16 +177,6 @@ std::string json_escape(const std::string& s) {
   return out;
 }
 
-std::string command_output(const char* cmd) {
-  std::string out;
-  if (FILE* p = popen(cmd, "r")) {
-    char buf[256];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
-}
 
 // Every (sigma_f, sigma_g) of the grid, one pass at a time up to kGridMaxPasses, scored after the
 // passes of kGridPasses; the input joins as 0 passes. The best by RMS goes to o.best.
@@ -368,7 +350,7 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  std::string commit = command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null");
+  std::string commit = eval::command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null");
   if (commit.empty()) commit = "unknown";
   std::printf("pnf_eval_real on %s, commit %s, %zu points a model, seed %llu\n\n", description.c_str(), commit.c_str(),
               points, static_cast<unsigned long long>(seed));

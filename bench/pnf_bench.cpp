@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "bench_workloads.hpp"
+#include "eval_clouds.hpp"
 #include "filter_engine.hpp"
 #include "opencl_backend.hpp"
 #include "pnf/normal_filter.hpp"
@@ -184,16 +185,6 @@ double num(const std::string& json, const std::string& key) {
   return v.empty() ? 0 : std::stod(v);
 }
 
-std::string command_output(const char* cmd) {
-  std::string out;
-  if (FILE* p = popen(cmd, "r")) {
-    char buf[256];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    pclose(p);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
-  return out;
-}
 
 }  // namespace
 
@@ -295,7 +286,7 @@ int main(int argc, char** argv) {
   std::ofstream out(json_path);
   out << "{\"date\":\"" << date << "\",\"host\":\"" << host.nodename << " " << host.machine
       << "\",\"cpus\":" << sysconf(_SC_NPROCESSORS_ONLN) << ",\"commit\":\""
-      << command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null")
+      << pnf::eval::command_output("git -C '" PNF_SOURCE_DIR "' rev-parse --short HEAD 2>/dev/null")
       << "\",\"flops_per_pair\":" << kFlopsPerPair << ",\"repeats\":" << repeats << ",\"results\":[\n";
   for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i] << (i + 1 < rows.size() ? ",\n" : "\n");
   out << "]}\n";

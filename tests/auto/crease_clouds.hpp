@@ -69,8 +69,9 @@ inline NormalFilter& fastest_filter() {
   return f ? *f : *reference_filter();
 }
 
-// PCA normals over 16 neighbours, turned to the true side (a sign only; the filter needs
-// consistent signs, the score ignores them), as `pnf estimate` would give a scan.
+// PCA normals over 16 points (the point and its 15 nearest, as `pnf estimate` counts k), turned
+// to the true side (a sign only; the filter needs consistent signs, the score ignores them), as
+// `pnf estimate` would give a scan.
 inline std::vector<Vec3> pca16_normals(const std::vector<Vec3>& positions, const std::vector<Vec3>& truth) {
   EstimateParams params;
   params.k = 16;

@@ -97,6 +97,25 @@ TEST(ImproveNormalsAuto, FiltersBlurredCreasesAndKeepsTheBestPass) {
   EXPECT_FALSE(run.choice.judged.empty());
 }
 
+TEST(ImproveNormalsAuto, ReportsItsEstimateAndCanBeCancelledThere) {
+  const PointCloud s = sphere(5000, 1.0, 2);
+  std::vector<Vec3> out(s.size(), Vec3{0, 0, 0});
+  std::vector<ProgressStage> stages;
+  const ProgressCallback stop_after_estimate = [&](const PassProgress& p) {
+    stages.push_back(p.stage);
+    return !(p.stage == ProgressStage::estimate && p.fraction >= 1);
+  };
+  try {
+    improve_normals_auto(s, MutableVec3ArrayView(out), fastest_filter(), stop_after_estimate);
+    FAIL() << "not cancelled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+  }
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[0], ProgressStage::estimate);
+  EXPECT_EQ(out[0][0], 0.0);  // nothing written
+}
+
 TEST(ImproveNormalsAuto, RefusesAnOutputOfTheWrongSize) {
   const PointCloud s = sphere(100, 1.0, 1);
   std::vector<Vec3> out(99);

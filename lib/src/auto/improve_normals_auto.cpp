@@ -1,6 +1,7 @@
 // pnf::improve_normals_auto: `pnf filter --auto` as one call (auto_params.hpp), and what it
 // shares with the distributed one (judged_passes.hpp).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -74,9 +75,20 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
                                                  std::to_string(normals_out.count) + " rows for " +
                                                  std::to_string(cloud.size()) + " points");
   }
+  // The estimate and the judge's fits (about a second per 100k points) report as one stage, and
+  // a cancel is honoured once they are done; the passes then report as the filter's do.
+  const auto start = std::chrono::steady_clock::now();
+  auto estimate_stage = [&](double fraction) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (progress && !progress(PassProgress{0, 0, seconds, ProgressStage::estimate, fraction})) {
+      throw Error(ErrorCode::cancelled, "improve_normals_auto: cancelled while estimating the data");
+    }
+  };
+  estimate_stage(0);
   detail::SurfaceJudge judge;
   AutoRun run;
   run.choice = choose_filter_params(detail::estimate_data(cloud, &judge));
+  estimate_stage(1);
   if (stop_change_deg >= 0) run.choice.params.stop_change_deg = stop_change_deg;
   if (run.choice.params.iterations == 0 || judge.empty()) {
     run.summary = filter.run(cloud, normals_out, run.choice.params, progress);
