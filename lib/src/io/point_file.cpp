@@ -157,6 +157,23 @@ void check_normal(const Vec3& normal, std::size_t index, const char* where) {
   }
 }
 
+// Visits every vertex row in file order with the index of its point among cloud()'s `points`
+// (the rows left out of cloud(), invalid or without normals, get npos): store(row, layout, i).
+constexpr std::size_t kNoPoint = std::size_t(-1);
+template <typename Store>
+void for_each_vertex_row(PointFile::Impl& impl, std::size_t points, Store&& store) {
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  RowLayout layout(vertex.properties);
+  unsigned char* row = impl.values[impl.vertex_element].data();
+  std::size_t i = 0;  // the next valid point
+  for (std::size_t r = 0; r < vertex.count; ++r) {
+    const std::size_t row_size = layout.measure(row);
+    const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
+    store(row, layout, valid ? i++ : kNoPoint);
+    row += row_size;
+  }
+}
+
 }  // namespace
 
 PointFile::PointFile() : PointFile(PointCloud{}) {}
@@ -304,20 +321,14 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   }
   const std::vector<PlyProperty>& properties = vertex.properties;
   const std::size_t fields[3] = {impl.fields.nx, impl.fields.ny, impl.fields.nz};
-  RowLayout layout(properties);
-  unsigned char* row = impl.values[impl.vertex_element].data();
-  std::size_t i = 0;  // the next valid point
-  for (std::size_t r = 0; r < vertex.count; ++r) {
-    const std::size_t row_size = layout.measure(row);
-    const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
+  for_each_vertex_row(impl, points, [&](unsigned char* row, const RowLayout& layout, std::size_t i) {
     // An invalid point (a row with a NaN coordinate) or a point without a normal: NaN, as PCL
     // gives it.
-    const Vec3 normal = valid ? normals[i++] : Vec3{kNaN, kNaN, kNaN};
+    const Vec3 normal = i != kNoPoint ? normals[i] : Vec3{kNaN, kNaN, kNaN};
     for (int axis = 0; axis < 3; ++axis) {
       store_real(properties[fields[axis]].type, normal[axis], row + layout.offset(fields[axis]));
     }
-    row += row_size;
-  }
+  });
   if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl, {fields[0], fields[1], fields[2]});
 }
 
@@ -358,16 +369,10 @@ void PointFile::set_scalar_property(const std::string& name, const std::vector<d
                                                  " values for " + std::to_string(points) +
                                                  (impl.has_invalid_rows ? " valid points" : " vertices"));
   }
-  RowLayout layout(properties);
-  unsigned char* row = impl.values[impl.vertex_element].data();
-  std::size_t i = 0;  // the next valid point
-  for (std::size_t r = 0; r < vertex.count; ++r) {
-    const std::size_t row_size = layout.measure(row);
-    const bool valid = !impl.has_invalid_rows || (i < points && impl.valid_rows[i] == r);
+  for_each_vertex_row(impl, points, [&](unsigned char* row, const RowLayout& layout, std::size_t i) {
     // As set_normals: a row left out of cloud() has no fit, so NaN (as PCL gives it).
-    store_real(properties[field].type, valid ? values[i++] : kNaN, row + layout.offset(field));
-    row += row_size;
-  }
+    store_real(properties[field].type, i != kNoPoint ? values[i] : kNaN, row + layout.offset(field));
+  });
   if (!impl.ascii_rows.empty()) rewrite_vertex_tokens(impl, {field});
 }
 
