@@ -282,7 +282,10 @@ TEST_F(CliTest, InterruptCancelsAnEstimate) {
   PointCloud bare;
   bare.positions = sphere(200000, 1.0, 41).positions;
   const std::string in = write_cloud("in.xyz", bare);
-  const CliRun r = run({"estimate", in, path("out.ply"), "--k", "200", "--orient", "outward"},
+  // Work for well over the 2 s before the interrupt (k 200 took about 2 s alone on an idle 2-core
+  // AVX-512 machine, so it could end first); k 400 doubles it and keeps the neighbour table
+  // (200k rows of k) at a few hundred MB, under the sanitizers too.
+  const CliRun r = run({"estimate", in, path("out.ply"), "--k", "400", "--orient", "outward"},
                        "timeout --foreground --preserve-status -k 10 -s INT 2");
   EXPECT_EQ(r.exit_code, kExitCancelled) << r.describe();
   EXPECT_TRUE(contains(r.err, "cancelled")) << r.err;
