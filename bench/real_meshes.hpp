@@ -1,6 +1,7 @@
-// Real shapes with known normals for pnf_eval_real: triangle meshes read from OFF or ASCII PLY,
-// scaled to a unit bounding-box diagonal, and sampled uniformly by area, each sample carrying the
-// mesh's true normal there. Deterministic: the same mesh and seed, the same samples.
+// Real shapes with known normals for pnf_eval_real: triangle meshes read from OFF or ASCII PLY
+// (mesh_reader.cpp), scaled to a unit bounding-box diagonal and sampled uniformly by area, each
+// sample carrying the mesh's true normal there (deterministic: the same mesh and seed, the same
+// samples); and point sets whose files carry normals (read_point_set).
 //
 // The true normal (the definition the evaluation scores against):
 //   - a triangle's corner normal at vertex v is the area-weighted average of the normals of the
@@ -53,6 +54,13 @@ Mesh read_mesh(const std::string& path);
 // Moves the centre of the bounding box to the origin and scales so that its diagonal is 1.
 // Throws std::runtime_error for an empty mesh or one whose vertices all coincide.
 void normalize_to_unit_diagonal(Mesh& mesh);
+void normalize_to_unit_diagonal(std::vector<Vec3>& points);
+
+// A point set whose file carries normals, taken as its truth (the held-out models: a scanned
+// statue resampled with its mesh's normals, CGAL's example scans), read with pnf::read_point_file
+// and scaled like a mesh (normalize_to_unit_diagonal); the normals made unit, area left 0. Throws
+// pnf::Error for a bad file and std::runtime_error for one without normals.
+Shape read_point_set(const std::string& path);
 
 // The bounding-box diagonal of `points` (model units); 0 for none.
 double bounding_box_diagonal(const std::vector<Vec3>& points);

@@ -13,6 +13,7 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
   ${PROJECT_SOURCE_DIR}/bench/real_meshes.cpp
+  ${PROJECT_SOURCE_DIR}/bench/mesh_reader.cpp
   ${PROJECT_SOURCE_DIR}/bench/eval_clouds.cpp)
 set_source_files_properties(${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
   PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/bench)
