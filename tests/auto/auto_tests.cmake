@@ -3,8 +3,8 @@
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # cross_validation_test: --auto's cross-validation for normals with independent errors.
-# real_meshes_test: the true normals of pnf_eval_real's meshes (bench/real_meshes.hpp, compiled in
-# here with eval_clouds.cpp, which it builds on).
+# real_meshes_test, mesh_reader_test: the true normals of pnf_eval_real's meshes and point sets,
+# and its readers (bench/real_meshes.hpp, compiled in here with eval_clouds.cpp, which it builds on).
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
@@ -12,8 +12,9 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/cross_validation_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/mesh_reader_test.cpp
   ${PROJECT_SOURCE_DIR}/bench/real_meshes.cpp
   ${PROJECT_SOURCE_DIR}/bench/mesh_reader.cpp
   ${PROJECT_SOURCE_DIR}/bench/eval_clouds.cpp)
 set_source_files_properties(${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
-  PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/bench)
+  ${PROJECT_SOURCE_DIR}/tests/auto/mesh_reader_test.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/bench)
