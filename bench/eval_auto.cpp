@@ -49,7 +49,7 @@ namespace {
 using namespace pnf;
 using namespace pnf::eval;
 
-// The grid is the cross-validation's own (lib/src/auto/setting_grid.hpp).
+// The grid is pnf_eval_real's too (lib/src/auto/setting_grid.hpp).
 using pnf::detail::kGridPasses;
 using pnf::detail::kGridSigmaF;
 using pnf::detail::kGridSigmaG;
@@ -512,7 +512,6 @@ int main(int argc, char** argv) {
           << ", \"normal_position_coupling\": " << e.normal_position_coupling
           << ", \"crease_sharpness\": " << e.crease_sharpness
           << ", \"normal_crease_length\": " << e.normal_crease_length
-          << ", \"cross_validated\": " << (o.choice.cross_validated ? "true" : "false")
           << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
           << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {

@@ -14,8 +14,8 @@ struct FilterFactory {
   // device type's default, as NormalFilter(options) picks). Ignored by the reference backend.
   static NormalFilter with_lanes(const FilterOptions& options, int lanes);
   // filter.run(cloud, normals_out, params, progress), telling `after_pass` the new normals (N by
-  // 3, the view's order) after every pass: --auto's cross-validation scores the passes in
-  // between without running the first ones again. params.mean_radius must be given with
+  // 3, the view's order) after every pass: --auto's judge scores the passes in between without
+  // running the first ones again. params.mean_radius must be given with
   // Units::radius. When `enough` is given and returns true after a pass's observer, the passes end
   // there (as the stop rule ends them).
   using PassObserver = std::function<void(int pass, const std::vector<double>& normals)>;

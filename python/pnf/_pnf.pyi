@@ -75,12 +75,6 @@ class AutoChoice:
     @property
     def rule(self) -> str: ...
     @property
-    def cross_validated(self) -> bool:
-        """Whether the rule's line was replaced by cross-validation (independent normal errors)."""
-    @property
-    def rule_before_cross_validation(self) -> str:
-        """Where cross_validated: the rule's own line, which cross-validation replaced; else empty."""
-    @property
     def kwargs(self) -> dict[str, Any]:
         """Keyword arguments for improve_normals that reproduce auto=True."""
 

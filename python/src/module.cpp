@@ -291,8 +291,6 @@ void bind_results(py::module_& m) {
       .def_property_readonly("mean_radius", [](const AutoChoice& c) { return c.params.mean_radius; })
       .def_readonly("estimate", &AutoChoice::estimate)
       .def_readonly("rule", &AutoChoice::rule)
-      .def_readonly("cross_validated", &AutoChoice::cross_validated)
-      .def_readonly("rule_before_cross_validation", &AutoChoice::rule_before_cross_validation)
       .def_property_readonly("kwargs",
                              [](const AutoChoice& c) {
                                const FilterParams& f = c.params;

@@ -2,14 +2,14 @@
 # included into the single test executable (the CLI cases skip when PNF_CLI_PATH is empty).
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
-# cross_validation_test: --auto's cross-validation for normals with independent errors.
+# independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
 # real_meshes_test, mesh_reader_test: the true normals of pnf_eval_real's meshes and point sets,
 # and its readers (bench/real_meshes.hpp, compiled in here with eval_clouds.cpp, which it builds on).
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
-  ${PROJECT_SOURCE_DIR}/tests/auto/cross_validation_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/independent_errors_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/mesh_reader_test.cpp

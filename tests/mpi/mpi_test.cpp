@@ -12,8 +12,6 @@
 #include <functional>
 
 #include "agreement.hpp"
-#include "auto/crease_clouds.hpp"
-#include "cross_validate_mpi.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/mean_radius.hpp"
@@ -258,101 +256,6 @@ TEST(MpiFilter, DeviceErrorOnOneRank) {
 
 }  // namespace
 
-// A 90-degree crease with the true normals tilted at random (independent errors: what --auto
-// cross-validates), small enough for the reference backend on every rank count.
-const PointCloud& jittered_crease() {
-  static const PointCloud cloud = [] {
-    test::Crease c = test::make_crease(90, 2400, 0.1, 41);
-    std::mt19937 rng(42);
-    c.cloud.normals.clear();
-    for (const Vec3& n : c.truth) c.cloud.normals.push_back(test::jitter_normal(n, 6, rng));
-    return c.cloud;
-  }();
-  return cloud;
-}
-
-// The one process's cross-validation, on rank 0, sent to every rank.
-pnf::detail::CrossValidation one_process_cross_validation(const PointCloud& cloud, double mean_radius,
-                                                          double position_noise) {
-  pnf::detail::CrossValidation cv;
-  double values[6] = {0, 0, 0, 0, 0, 0};
-  if (rank() == 0) {
-    NormalFilter filter(reference_options());
-    cv = pnf::detail::cross_validate(cloud, mean_radius, position_noise, filter);
-    values[0] = cv.params.sigma_f, values[1] = cv.params.sigma_g, values[2] = cv.params.iterations;
-    values[3] = cv.score, values[4] = double(cv.held_out), values[5] = cv.input_error;
-  }
-  MPI_Bcast(values, 6, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-  cv.params.sigma_f = values[0], cv.params.sigma_g = values[1], cv.params.iterations = int(values[2]);
-  cv.score = values[3], cv.held_out = std::size_t(values[4]), cv.input_error = values[5];
-  return cv;
-}
-
-// The distributed cross-validation holds out the one process's points, gives each the same
-// neighbours and sums the same scores: the same setting, and its score and the input's error to
-// rounding (the sums' order differs). A held-out point missing a neighbour beyond its rank's
-// halo, a nudged point the one process does not nudge, or a rank's rest seeing a held-out point
-// would each move the score by far more.
-TEST(MpiAuto, CrossValidationIsTheOneProcesses) {
-  const PointCloud& cloud = jittered_crease();
-  // Half the mean radius keeps the grid's widest lists short (this tests the bookkeeping, not
-  // the choice).
-  const double mean_radius = 0.5 * estimate_mean_radius(cloud.positions);
-  // Non-zero, so that the error samples' correction for it is compared too.
-  const double position_noise = 0.2 * mean_radius;
-  const pnf::detail::CrossValidation want = one_process_cross_validation(cloud, mean_radius, position_noise);
-  for (const Split& split : {Split(even), Split(uneven), Split(all_on_last)}) {
-    const std::vector<std::size_t> first = split(cloud.size(), ranks());
-    const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
-    const mpi::detail::Agreement agree(MPI_COMM_WORLD);
-    const pnf::detail::CrossValidation got =
-        mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), mean_radius, position_noise,
-                                    reference_options(), {});
-    EXPECT_EQ(got.params.sigma_f, want.params.sigma_f);
-    EXPECT_EQ(got.params.sigma_g, want.params.sigma_g);
-    EXPECT_EQ(got.params.iterations, want.params.iterations);
-    // Both are mean squares of about the input's error (the score a small difference of two).
-    EXPECT_NEAR(got.input_error, want.input_error, 1e-9 * want.input_error);
-    EXPECT_NEAR(got.score, want.score, 1e-9 * want.input_error);
-    EXPECT_EQ(got.held_out, want.held_out);
-  }
-}
-
-// pnf::mpi::choose_filter_params cross-validates such normals and reports it as one process does.
-TEST(MpiAuto, ChoiceCrossValidatesIndependentErrors) {
-  const PointCloud& cloud = jittered_crease();
-  const std::vector<std::size_t> first = even(cloud.size(), ranks());
-  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
-  const AutoChoice choice = mpi::choose_filter_params(MPI_COMM_WORLD, CloudView(part), reference_options());
-  EXPECT_TRUE(choice.cross_validated) << choice.rule;
-  EXPECT_NE(choice.rule.find("cross-validated"), std::string::npos) << choice.rule;
-  EXPECT_FALSE(choice.rule_before_cross_validation.empty());
-  EXPECT_EQ(choice.params.mean_radius, estimate_mean_radius(cloud.positions)) << "not the one process's mean radius";
-}
-
-// A NaN normal in one rank's rows: every rank throws the one-process message, the vertex counted
-// among all ranks' points.
-TEST(MpiAuto, BadNormalOnOneRankIsRefusedEverywhere) {
-  PointCloud cloud = jittered_crease();
-  const std::size_t bad = cloud.size() - 7;  // on the last rank
-  cloud.normals[bad] = {0, std::nan(""), 1};
-  const std::vector<std::size_t> first = even(cloud.size(), ranks());
-  const std::size_t begin = first[std::size_t(rank())];
-  const PointCloud part = slice(cloud, begin, first[std::size_t(rank()) + 1]);
-  const mpi::detail::Agreement agree(MPI_COMM_WORLD);
-  try {
-    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 1.0, 0.0, reference_options(), {});
-    ADD_FAILURE() << "a NaN normal was cross-validated";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
-    const std::size_t last_first = first[std::size_t(ranks() - 1)];
-    const std::string want = "vertex " + std::to_string(bad - last_first) + " has a NaN";
-    EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("vertex " + std::to_string(last_first) + " of all ranks"), std::string::npos)
-        << e.what();
-  }
-}
-
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
 // process's estimate_data message) rather than a bare "too few points", also when the failing
 // slices are not rank 0's.
@@ -366,7 +269,7 @@ TEST(MpiAuto, UnestimableCloudIsRefusedWithItsCause) {
     const std::vector<std::size_t> first = split(cloud.size(), ranks());
     const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
     try {
-      mpi::choose_filter_params(MPI_COMM_WORLD, CloudView(part), reference_options());
+      mpi::choose_filter_params(MPI_COMM_WORLD, CloudView(part));
       ADD_FAILURE() << "points on a line were estimated";
     } catch (const Error& e) {
       EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
@@ -374,25 +277,6 @@ TEST(MpiAuto, UnestimableCloudIsRefusedWithItsCause) {
       EXPECT_NE(std::string(e.what()).find("on a line"), std::string::npos) << e.what();
     }
   }
-}
-
-// Rank 0's progress callback cancels in the middle of the settings: every rank ends with
-// Error(cancelled), none left waiting in a halo exchange.
-TEST(MpiAuto, CancellingOnRankZeroEndsItEverywhere) {
-  const PointCloud& cloud = jittered_crease();
-  const std::vector<std::size_t> first = even(cloud.size(), ranks());
-  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
-  const mpi::detail::Agreement agree(MPI_COMM_WORLD);
-  int calls = 0;
-  const ProgressCallback progress = [&](const PassProgress&) { return ++calls < 5; };
-  try {
-    mpi::detail::cross_validate(MPI_COMM_WORLD, agree, CloudView(part), 0.5 * estimate_mean_radius(cloud.positions),
-                                0.0, reference_options(), rank() == 0 ? progress : ProgressCallback{});
-    ADD_FAILURE() << "not cancelled";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
-  }
-  if (rank() == 0) EXPECT_EQ(calls, 5);
 }
 
 int main(int argc, char** argv) {

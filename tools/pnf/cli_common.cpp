@@ -143,9 +143,6 @@ void print_auto(const AutoChoice& choice, double seconds) {
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "
                "%.0f%% of the smooth ones curved\n",
                e.crease_length, 100 * e.feature_share, e.crease_sharpness, 100 * e.curved_share);
-  // The rule's line stays visible: it is what the estimate alone (choose_filter_params(estimate)) gives.
-  if (choice.cross_validated)
-    std::fprintf(stderr, "  rule would take  %s\n", choice.rule_before_cross_validation.c_str());
   std::fprintf(stderr, "  chose            %s\n", choice.rule.c_str());
   if (!choice.judged.empty()) std::fprintf(stderr, "  passes           %s\n", choice.judged.c_str());
 }

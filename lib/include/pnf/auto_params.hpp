@@ -128,12 +128,6 @@ struct AutoChoice {
   FilterParams params;  // units radius, mean_radius = estimate.mean_radius (model units)
   DataEstimate estimate;
   std::string rule;  // e.g. "noise 0.48 spacings, normals 9.1 deg -> sigma_f 4, sigma_g 1.2, ..."
-  // Whether the rule's independent-errors line was replaced by cross-validation (the overload
-  // with a filter, below).
-  bool cross_validated = false;
-  // Where cross_validated: the rule's own line, which cross-validation replaced (what the rule
-  // alone would have taken); empty otherwise.
-  std::string rule_before_cross_validation;
   // Where improve_normals_auto judged the passes (below): what the judge measured and kept.
   std::string judged;
 };
@@ -172,27 +166,11 @@ AutoChoice choose_filter_params(const CloudView& cloud);
 // Whether the choice's estimate shows input normals whose errors are independent of the
 // positions and of each other (normal_position_coupling and normal_error_correlation both under
 // 0.35, normal_noise_deg from 0.6, p up to 3; on clean positions, p < 0.05, the correlation
-// under 0.1), in 2000 points or more: then
-// cross_validate_choice below replaces the rule's line, which such normals defeat (docs/auto.md).
-bool needs_cross_validation(const AutoChoice& choice);
-
-// pnf's extension to the paper (docs/auto.md): the filter setting for `cloud` by
-// cross-validation instead of the rule. An eighth of the points (at most 50000) is held out;
-// `filter` runs on the rest at every setting of the evaluation's grid (sigma_f 2 / 4 / 8, sigma_g
-// 0.25 / 0.5 / 1 / 2 / off mean radii, 1 / 2 / 4 / 8 passes: 15 runs of 7 passes on 7/8 of the
-// cloud), the held-out points follow the same passes without ever being anyone's neighbour, and
-// the setting whose held-out normals end closest to their own input normals, against how much
-// of that input they keep, is chosen: with independent errors that ranks the settings as their
-// true errors would. Returns `choice` with those params (units radius, its mean radius, its stop
-// rule), cross_validated set and the rule text saying so. `progress` is told the share of
-// settings tried (ProgressStage::cross_validation) and may cancel (pnf::Error(cancelled)).
-// Throws pnf::Error(invalid_argument) for a cloud of fewer than 2000 points or without normals.
-AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
-                                 const ProgressCallback& progress = {});
-
-// What `pnf filter --auto` uses: estimate_data, the rule, and cross_validate_choice where
-// needs_cross_validation says so (the filter is used only then).
-AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress = {});
+// under 0.1), in 2000 points or more: such normals (a scanner's, a mesh's) defeat the rule's
+// lines for PCA normals, so improve_normals_auto judges the rule's independent-errors setting
+// beside the rule's own (docs/auto.md).
+// Thread safety: pure function.
+bool independent_normal_errors(const AutoChoice& choice);
 
 // What improve_normals_auto did.
 struct AutoRun {
@@ -205,7 +183,7 @@ struct AutoRun {
   std::vector<double> judged_rms_deg;
 };
 
-// `pnf filter --auto` in one call: choose_filter_params(cloud, filter, progress), then the chosen
+// `pnf filter --auto` in one call: choose_filter_params(cloud), then the chosen
 // passes, each judged against the normals of local quadric fits to the positions (a jet fit of
 // order 2, without the input normals) at the samples where the fit is smooth; the pass whose
 // normals agree best with them is kept, and the input normals (normalised) when none beats them,

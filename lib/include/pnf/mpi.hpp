@@ -62,15 +62,9 @@ DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, Mutabl
 
 // `pnf filter --auto` across the ranks (docs/auto.md): each rank estimates the data on the points
 // it holds, the estimates are pooled (pool_estimates) with the one process's mean radius, and the
-// rule applies; where needs_cross_validation says so, the setting is cross-validated across the
-// ranks as one process would do it on the concatenation of every rank's points in rank order
-// (the same held-out points, settings and neighbours; the ranks' scores summed), on the devices
-// that `options` picks as improve_normals does. Returns the same AutoChoice on every rank; pass
-// its params to improve_normals. `progress` is called on rank 0 only (ProgressStage::
-// cross_validation) and may cancel. Collective; throws pnf::Error on every rank alike when any
-// rank fails, as improve_normals does.
-AutoChoice choose_filter_params(MPI_Comm comm, const CloudView& local, const FilterOptions& options = {},
-                                const ProgressCallback& progress = {});
+// rule applies. Returns the same AutoChoice on every rank; pass its params to improve_normals.
+// Collective; throws pnf::Error on every rank alike when any rank fails, as improve_normals does.
+AutoChoice choose_filter_params(MPI_Comm comm, const CloudView& local);
 
 // What improve_normals_auto across the ranks did: the same on every rank but summary.local.
 struct DistributedAutoRun {

@@ -6,7 +6,6 @@
 #include <sstream>
 #include <string>
 
-#include "cross_validate.hpp"
 #include "judged_passes.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
@@ -143,12 +142,15 @@ constexpr double kCoherentSigmaF = 3.3;
 // suit them (cube and wedges within 1.0-1.46 of the grid's best) and the coupling has no noise to
 // follow.
 constexpr double kIndependentErrorsBelow = 0.35;
-// The same on clean positions (p < kNoFilterNoise), for cross-validation only: there the tuning
+// The same on clean positions (p < kNoFilterNoise), for the judged second setting only: there the tuning
 // cases' jittered normals read correlations of at most 0.03, while PCA normals read 0.06 (PCA-16,
 // also coupled 0.87) to 0.57. Cross-validated, the clean tori with PCA-32 and PCA-64 normals
 // (0.18 and 0.34, coupling 0.19 and 0.07) came out 1.41 and 0.76 deg against the rule's 1.20 and
 // 0.71: their errors are not independent of the neighbours'. Set after those two runs (docs/auto.md).
 constexpr double kCleanIndependentCorrelation = 0.1;
+// Fewer points than this say too little about how the normals' errors relate (it was the fewest
+// points the cross-validation, which this gate first served, could hold an eighth out of).
+constexpr std::size_t kIndependentErrorsMinPoints = 2000;
 // Their settings, the tuning cases' optima: on shapes with sharp edges or curved faces a narrow
 // sigma_f with a wide sigma_g (4 and 2 spacings; 1.0-1.23 of the best but for one case, 1.75),
 // on smooth curved ones plain averaging (1.0). Independent errors average out fast: one pass
@@ -317,7 +319,7 @@ FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
-bool needs_cross_validation(const AutoChoice& choice) {
+bool independent_normal_errors(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;
   const double p = e.position_noise_area_spacings();
   // On clean positions the coupling has no noise to follow, so only the correlation tells
@@ -325,39 +327,7 @@ bool needs_cross_validation(const AutoChoice& choice) {
   const double max_correlation = p < kNoFilterNoise ? kCleanIndependentCorrelation : kIndependentErrorsBelow;
   return e.normal_noise_deg >= kNoFilterNormalNoiseDeg && e.normal_position_coupling < kIndependentErrorsBelow &&
          e.normal_error_correlation < max_correlation && p <= kFeatureOffNoise &&
-         e.points >= detail::cross_validation_min_points();
-}
-
-AutoChoice detail::with_cross_validation(const AutoChoice& choice, const CrossValidation& cv) {
-  const DataEstimate& e = choice.estimate;
-  AutoChoice out = choice;
-  out.params = cv.params;
-  out.params.stop_change_deg = choice.params.stop_change_deg;
-  out.cross_validated = true;
-  out.rule_before_cross_validation = choice.rule;
-  const FilterParams& p = out.params;
-  const bool off = p.sigma_g >= kSigmaGOff;
-  out.rule = "noise " + format("%.3g", e.position_noise_area_spacings()) + " area spacings, normals " +
-             format("%.3g", e.normal_noise_deg) + " deg, normal errors independent of the positions (coupling " +
-             format("%.2f", e.normal_position_coupling) + ", correlation " +
-             format("%.2f", e.normal_error_correlation) + ") -> cross-validated (" + std::to_string(cv.settings) +
-             " settings, " + std::to_string(cv.folds) + (cv.folds == 1 ? " fold of " : " folds of ") +
-             std::to_string(cv.held_out / cv.folds) + " held-out points): sigma_f " + format("%g", p.sigma_f) +
-             (off ? std::string(", sigma_g off") : ", sigma_g " + format("%g", p.sigma_g)) + " mean radii, " +
-             std::to_string(p.iterations) + " passes, stop below " + format("%g", p.stop_change_deg) + " deg";
-  return out;
-}
-
-AutoChoice cross_validate_choice(const CloudView& cloud, const AutoChoice& choice, NormalFilter& filter,
-                                 const ProgressCallback& progress) {
-  return detail::with_cross_validation(
-      choice, detail::cross_validate(cloud, choice.estimate.mean_radius, choice.estimate.position_noise, filter,
-                                     progress));
-}
-
-AutoChoice choose_filter_params(const CloudView& cloud, NormalFilter& filter, const ProgressCallback& progress) {
-  const AutoChoice choice = choose_filter_params(estimate_data(cloud));
-  return needs_cross_validation(choice) ? cross_validate_choice(cloud, choice, filter, progress) : choice;
+         e.points >= kIndependentErrorsMinPoints;
 }
 
 }  // namespace pnf

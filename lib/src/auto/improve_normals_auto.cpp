@@ -36,7 +36,7 @@ std::vector<double> unit_rows(const Vec3ArrayView& normals) {
 
 std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
   std::vector<FilterParams> candidates = {choice.params};
-  if (needs_cross_validation(choice)) {
+  if (independent_normal_errors(choice)) {
     const FilterParams other = independent_errors_setting(choice);
     if (other.sigma_f != choice.params.sigma_f || other.sigma_g != choice.params.sigma_g) candidates.push_back(other);
   }

@@ -24,7 +24,7 @@ constexpr int kJudgedPassesPastBest = 2;
 FilterParams independent_errors_setting(const AutoChoice& choice);
 
 // The settings the judge tries, first the rule's: and where the estimate sees input normals whose
-// errors may not follow the positions (needs_cross_validation: a scanner's, a mesh's), the line
+// errors may not follow the positions (independent_normal_errors: a scanner's, a mesh's), the line
 // for those too, which the rule alone tells least surely. Not for PCA normals: that line's wide
 // sigma_g blurs detail finer than the judge's fits, which the judge cannot see (the camel with
 // PCA-16 normals: judged better, truly 0.5% worse than its input).

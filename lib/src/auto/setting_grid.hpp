@@ -1,6 +1,6 @@
-// The grid of filter settings that --auto's cross-validation chooses from and that pnf_eval_auto
-// (bench/eval_auto.cpp) searches for the best fixed setting: one list, so that the evaluation's
-// "best of the grid" is always over the settings the cross-validation could pick.
+// The grid of filter settings that pnf_eval_auto (bench/eval_auto.cpp) and pnf_eval_real search
+// for the best fixed setting: one list, so that both evaluations' "best of the grid" is over the
+// same settings.
 #pragma once
 
 namespace pnf::detail {

@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "agreement.hpp"
-#include "cross_validate_mpi.hpp"
 #include "mean_radius_mpi.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
@@ -120,17 +119,11 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
   return choice;
 }
 
-AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local, const FilterOptions& options,
-                                const ProgressCallback& progress) {
+AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local) {
   detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
-  const AutoChoice choice = detail::rule_choice(comm, agree, local);
-  if (!needs_cross_validation(choice)) return choice;
-  const DataEstimate& estimate = choice.estimate;
-  return pnf::detail::with_cross_validation(
-      choice, detail::cross_validate(comm, agree, local, estimate.mean_radius, estimate.position_noise, options,
-                                     agree.rank() == 0 ? progress : ProgressCallback{}));
+  return detail::rule_choice(comm, agree, local);
 }
 
 }  // namespace pnf::mpi

@@ -3,7 +3,6 @@
 add_library(pnf_mpi
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/agreement.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/choose_filter_params_mpi.cpp
-  ${PROJECT_SOURCE_DIR}/lib/src/mpi/cross_validate_mpi.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/device_choice.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/halo.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/mpi/improve_normals.cpp
