@@ -13,10 +13,7 @@
 
 #include "bench_workloads.hpp"
 #include "filter_engine.hpp"
-#include "pnf/bounding_box.hpp"
-#include "reference_backend.hpp"
 #include "spatial/spatial_index.hpp"
-#include "spatial/spatial_order.hpp"
 
 namespace {
 
@@ -57,25 +54,15 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   bench::Workload w = bench::make_workload(workload, "");
-  // sigma_f in model units, as the filter resolves it (iterations 0: the lists are only counted).
-  FilterParams params = w.params;
-  params.iterations = 0;
-  FilterOptions options;
-  options.device = Device::reference();
-  auto backend = detail::make_reference_backend(0);
-  std::vector<Vec3> normals(w.cloud.size());
-  const FilterSummary summary = detail::run_filter(*backend, options, w.cloud, normals, params, {});
-  const double reach = 2 * summary.sigma_f;  // PNF_SUPPORT_IN_SIGMA_F
-
-  // The cloud as the engine orders it: Morton curve, centred on the bounding box.
-  const Vec3ArrayView view(w.cloud.positions);
-  const std::vector<std::uint32_t> order = detail::morton_order(view);
-  const Vec3 centre = bounding_box(view).centre();
+  // The cloud as the engine prepares it (Morton curve, centred on the bounding box) and the
+  // reach of its lists, as the filter resolves them.
+  const detail::PreparedCloud prepared = detail::prepare_cloud(w.cloud, w.params, w.cloud.size());
+  detail::SpatialIndex& search = *prepared.search;
+  const double reach = prepared.plan.reach;
   const std::size_t n = w.cloud.size();
-  std::vector<double> positions(3 * n);
-  for (std::size_t k = 0; k < n; ++k)
-    for (int c = 0; c < 3; ++c) positions[3 * k + c] = w.cloud.positions[order[k]][c] - centre[c];
-  detail::SpatialIndex search(std::move(positions));
+  const std::vector<std::uint32_t> all_counts = search.count_within(reach);
+  const double neighbours_mean =
+      double(std::accumulate(all_counts.begin(), all_counts.end(), std::size_t(0))) / double(std::max<std::size_t>(n, 1));
 
   std::vector<Variant> variants;
   for (const std::string& name : names) {
@@ -92,7 +79,7 @@ int main(int argc, char** argv) {
     variants.push_back(v);
   }
   std::fprintf(stderr, "%s: %zu points, reach %.4g, %.1f neighbours a point\n", workload.c_str(), n, reach,
-               summary.neighbours_mean);
+               neighbours_mean);
   std::vector<std::uint32_t> first_indices;
   std::vector<std::uint32_t> counts, indices;
   std::vector<std::uint64_t> offsets;

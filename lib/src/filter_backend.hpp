@@ -1,29 +1,27 @@
-// The interface both backends implement: the engine (normal_filter.cpp) does the ordering,
+// The interface both backends implement: the engine (filter_engine.cpp) does the ordering,
 // neighbour search and chunking; a backend holds the cloud and runs passes over CSR lists.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
-
 #include <vector>
+
 #include "device_memory_error.hpp"
+#include "pnf/normal_filter.hpp"
+#include "pnf_filter.h"
 
 namespace pnf::detail {
 
-// Exponent coefficients in model units^-2, as pnf_make_coeffs computes them (pnf_filter.h).
-struct Coefficients {
-  double inv_two_sigma_f2 = 0;
-  double inv_two_sigma_g2 = 0;
-};
-
-// Thrown by a backend when the device refuses an allocation (out of device memory or
-// resources); the engine then retries with smaller chunks.
-
+// Where a backend's caller writes the lists of one chunk (begin_lists).
 struct ListStorage {
   std::uint64_t* offsets = nullptr;  // count + 1
   std::uint32_t* indices = nullptr;  // pairs
 };
 
+// Thread safety: one backend serves one run at a time. A backend throws DeviceMemoryError
+// (device_memory_error.hpp) when the device refuses an allocation; the engine then retries with
+// smaller chunks.
 class FilterBackend {
  public:
   virtual ~FilterBackend() = default;
@@ -40,13 +38,14 @@ class FilterBackend {
   virtual ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) = 0;
   // The filled lists become the ones run_chunk uses.
   virtual void end_lists() = 0;
-  // New normals for the points of the current lists, from the current normals.
-  virtual void run_chunk(const Coefficients& coefficients) = 0;
+  // New normals for the points of the current lists, from the current normals, with the run's
+  // coefficients (FilterPlan::coefficients).
+  virtual void run_chunk(const pnf_coeffs& coefficients) = 0;
   // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,
   // or 0 when not measured.
   virtual double end_pass() = 0;
   // Points of the pass end_pass() last closed whose J was degenerate, so their normal was kept
-  // (SPEC, "The normal update"). A backend that does not count returns 0.
+  // (docs/method.md, the normal update). A backend that does not count returns 0.
   virtual std::size_t degenerate_kept() const { return 0; }
   // Bytes of device memory this backend holds (0 for the host reference).
   virtual std::size_t device_bytes() const = 0;
@@ -55,5 +54,10 @@ class FilterBackend {
   // Replaces the current normals (N by 3, unit), between passes: a distributed run's halo.
   virtual void replace_normals(const std::vector<double>& normals) = 0;
 };
+
+// The backend `options` ask for; options.device must be resolved (Device::resolved). lanes: the
+// OpenCL kernel's neighbours per vector step (1, 4, 8 or 16; 0: the device type's default),
+// ignored by the reference. Throws pnf::Error(device) when the OpenCL device cannot be set up.
+std::unique_ptr<FilterBackend> make_backend(const FilterOptions& options, int lanes = 0);
 
 }  // namespace pnf::detail

@@ -1,12 +1,18 @@
-// The filter's driver, independent of the backend: validation, curve ordering and re-centring,
-// neighbour counting, chunk planning, passes, progress, and mapping back to input order.
+// The filter's driver, independent of the backend, in three steps: prepare (validation, curve
+// ordering and re-centring, the spatial index, the mean radius and the run's plan), lists (the
+// neighbour count, chunk planning) and passes (chunked passes, progress, the stop rule, a
+// distributed part's halo exchange), then mapping back to input order.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "filter_backend.hpp"
+#include "filter_plan.hpp"
 #include "pnf/normal_filter.hpp"
+#include "spatial/spatial_index.hpp"
 
 namespace pnf::detail {
 
@@ -26,6 +32,23 @@ struct DistributedPart {
   // rule does. In a distributed run every process must answer alike (from summed figures).
   std::function<bool()> ends_passes;
 };
+
+// The cloud as the backends see it, with its index and plan: the first step of a run.
+struct PreparedCloud {
+  // order[k] = the view index of point k: along the Morton curve, a distributed part's owned
+  // points first (each group in curve order).
+  std::vector<std::uint32_t> order;
+  std::vector<double> normals;            // N by 3, unit (normalised in double), in that order
+  std::unique_ptr<SpatialIndex> search;   // over the positions in that order, re-centred on the
+                                          // bounding box's centre in double (docs/method.md)
+  std::size_t owned = 0;                  // the points filtered: [0, owned) in that order
+  FilterPlan plan;
+};
+
+// Orders and re-centres a non-empty, checked cloud, indexes it and makes the plan for `params`
+// (validated), resolving the mean radius as FilterParams says (given, the radii's mean, or the
+// estimate on this index).
+PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned);
 
 // NormalFilter::run on `backend` (see normal_filter.hpp for the contract). When the backend
 // reports that the device refused an allocation (DeviceMemoryError), the run starts over with

@@ -4,9 +4,7 @@
 
 #include "filter_engine.hpp"
 #include "filter_factory.hpp"
-#include "opencl_backend.hpp"
 #include "pnf/error.hpp"
-#include "reference_backend.hpp"
 
 namespace pnf {
 namespace {
@@ -58,9 +56,7 @@ NormalFilter detail::FilterFactory::with_lanes(const FilterOptions& options, int
   auto impl = std::make_unique<NormalFilter::Impl>();
   impl->options = options;
   impl->options.device = options.device.resolved();
-  impl->backend = impl->options.device.backend == Backend::opencl
-                      ? make_opencl_backend(impl->options.device.selector, lanes)
-                      : make_reference_backend(options.reference_threads);
+  impl->backend = make_backend(impl->options, lanes);
   return NormalFilter(std::move(impl));
 }
 

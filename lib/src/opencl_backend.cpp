@@ -96,7 +96,7 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
-  void run_chunk(const Coefficients& coefficients) override {
+  void run_chunk(const pnf_coeffs& coefficients) override {
     guarded([&] {
       kernel_.setArg(0, positions_);
       kernel_.setArg(1, current_);

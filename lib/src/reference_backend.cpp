@@ -43,10 +43,7 @@ class ReferenceBackend : public FilterBackend {
   void end_lists() override {}
   void wait() override {}
 
-  void run_chunk(const Coefficients& coefficients) override {
-    pnf_coeffs c;
-    c.inv_two_sigma_f2 = coefficients.inv_two_sigma_f2;
-    c.inv_two_sigma_g2 = coefficients.inv_two_sigma_g2;
+  void run_chunk(const pnf_coeffs& c) override {
     const auto count = static_cast<std::int64_t>(count_);
     std::size_t kept_here = 0;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads_) reduction(+ : kept_here)

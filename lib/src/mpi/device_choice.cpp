@@ -5,8 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "opencl_backend.hpp"
-#include "reference_backend.hpp"
 
 namespace pnf::mpi::detail {
 
@@ -33,8 +31,7 @@ std::unique_ptr<pnf::detail::FilterBackend> make_rank_backend(MPI_Comm comm, con
                                                               FilterOptions& resolved) {
   resolved = options;
   resolved.device = choose_device(comm, options.device);  // its one collective comes first
-  return resolved.device.backend == Backend::opencl ? pnf::detail::make_opencl_backend(resolved.device.selector, 0)
-                                                    : pnf::detail::make_reference_backend(resolved.reference_threads);
+  return pnf::detail::make_backend(resolved);
 }
 
 }  // namespace pnf::mpi::detail

@@ -10,6 +10,7 @@
 #include "agreement.hpp"
 #include "device_choice.hpp"
 #include "filter_engine.hpp"
+#include "filter_plan.hpp"
 #include "halo.hpp"
 #include "geometry.hpp"
 #include "auto/judged_passes.hpp"
@@ -17,7 +18,6 @@
 #include "mean_radius_mpi.hpp"
 #include "own_comm.hpp"
 #include "partition.hpp"
-#include "pnf_common.h"
 #include "rank_cloud_check.hpp"
 #include "spatial/spatial_index.hpp"
 
@@ -148,8 +148,8 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
 
   // The halo: every other rank's point within the lists' reach of one of ours.
   t = Clock::now();
-  const double scale = params.units == Units::radius ? mean_radius : 1.0;
-  const double reach = PNF_SUPPORT_IN_SIGMA_F * params.sigma_f * scale;
+  const pnf::detail::FilterPlan filter_plan = pnf::detail::make_filter_plan(params, {mean_radius, source});
+  const double reach = filter_plan.reach;
   const std::size_t n = owned.size();
   detail::HaloPlan plan;
   {
@@ -193,10 +193,10 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   });
   if (judged) new_normals = judged->best_normals();
   backend.reset();
-  summary.local.mean_radius = mean_radius;
-  summary.local.radius_source = source;
-  summary.local.sigma_f = params.sigma_f * scale;
-  summary.local.sigma_g = params.sigma_g * scale;
+  summary.local.mean_radius = filter_plan.radius.value;
+  summary.local.radius_source = filter_plan.radius.source;
+  summary.local.sigma_f = filter_plan.sigma_f;
+  summary.local.sigma_g = filter_plan.sigma_g;
 
   reduce_min_max(comm, n, summary.owned_min, summary.owned_max);
   reduce_min_max(comm, plan.halo_points(), summary.halo_min, summary.halo_max);
