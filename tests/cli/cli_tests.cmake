@@ -3,5 +3,7 @@
 # read ../shared/data via PNF_SHARED_DATA_DIR.
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/cli/cli_commands_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/cli/cli_options_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_errors_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_spacing_test.cpp)

@@ -4,9 +4,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+
+#include "pnf/options_text.hpp"
 
 namespace pnf::cli {
 namespace {
@@ -89,6 +93,19 @@ int guarded(Stage& stage, const std::function<int()>& body) {
   }
 }
 
+CLI::Validator finite_positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value <= 0) {
+          return "must be finite and > 0, got " + text;
+        }
+        return "";
+      },
+      "> 0", "POSITIVE");
+}
+
 void add_pcd_data_option(CLI::App& app, std::string& value) {
   app.add_option("--pcd-data", value,
                  "DATA of a .pcd OUT: ascii, binary or binary_compressed (default: the input's; binary for a "
@@ -112,14 +129,24 @@ void DeviceFlags::add_to(CLI::App& app, bool with_backend) {
                  "the first CPU)");
   if (with_backend) {
     app.add_option("--backend", backend,
-                   "opencl (default) or reference (double precision, CPU, no OpenCL); same as --device reference")
+                   "opencl (default) or reference (double precision, CPU, no OpenCL; same as --device reference, "
+                   "and refused beside an OpenCL --device)")
         ->check(CLI::IsMember({"opencl", "reference"}));
   }
+  // The pair is checked as soon as the command line is read (a usage error, exit 2), through the
+  // library's parser, which Python's backend= and device= go through too.
+  app.parse_complete_callback([this, with_backend] {
+    try {
+      (void)options();
+    } catch (const Error& e) {
+      throw CLI::ValidationError(with_backend ? "--backend/--device" : "--device", e.what());
+    }
+  });
 }
 
 FilterOptions DeviceFlags::options() const {
   FilterOptions o;
-  o.device = backend == "reference" ? Device::reference() : Device::parse(device);
+  o.device = parse_backend_and_device(backend, device);
   return o;
 }
 

@@ -52,6 +52,10 @@ struct DeviceFlags {
   FilterOptions options() const;
 };
 
+// A check for a value that must be a finite number > 0 ("--radius: must be finite and > 0, got
+// 0"): CLI11's PositiveNumber would print its range up to DBL_MAX in full.
+CLI::Validator finite_positive();
+
 // --pcd-data ascii|binary|binary_compressed for the commands that write: the DATA encoding of a
 // .pcd OUT (default: the input's, binary for a non-PCD input; ascii with --ascii). Binds `value`.
 void add_pcd_data_option(CLI::App& app, std::string& value);

@@ -42,7 +42,9 @@ int run_demo(const DemoFlags& flags) {
   return guarded(stage, [&] {
     SyntheticCloud house = make_scanned_house(flags.points, flags.noise);
     NormalFilter filter(flags.device.options());
-    FilterResult result = filter.run(house.cloud, FilterParams{}, progress_bar(false));
+    // The library's defaults (the paper's settings), printed from the same value below.
+    const FilterParams params{};
+    FilterResult result = filter.run(house.cloud, params, progress_bar(false));
     // Written only after the run, so that a device failure leaves no folder and no half demo.
     stage = Stage::writing;
     std::error_code ec;
@@ -66,8 +68,9 @@ int run_demo(const DemoFlags& flags) {
                 house.cloud.size(), house.spacing);
     std::printf("  noise        positions %.2g spacings along the normal, normals %.3g degrees per axis\n",
                 flags.noise.position, flags.noise.normal_degrees);
-    std::printf("  filter       paper defaults: sigma_f 4, sigma_g 0.5 mean radii (%.3g, %.3g model units), 4 passes\n",
-                s.sigma_f, s.sigma_g);
+    std::printf("  filter       paper defaults: sigma_f %g, sigma_g %g %s (%.3g, %.3g model units), %d passes\n",
+                params.sigma_f, params.sigma_g, params.units == Units::radius ? "mean radii" : "model units",
+                s.sigma_f, s.sigma_g, params.iterations);
     std::printf("  device       %s\n", s.device.c_str());
     std::printf("  neighbours   %.1f per point; lists %.2f s; passes", s.neighbours_mean, s.neighbour_seconds);
     for (double t : s.pass_seconds) std::printf(" %.3f", t);

@@ -5,6 +5,7 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "pnf/auto_params.hpp"
+#include "pnf/options_text.hpp"
 #include "pnf/point_file.hpp"
 #ifdef PNF_WITH_MPI
 #include "filter_mpi.hpp"
@@ -18,7 +19,7 @@ constexpr double kMiB = 1024.0 * 1024.0;
 struct FilterFlags {
   std::string in, out;
   FilterParams params;
-  std::string units = "radius";
+  std::string units = to_string(FilterParams{}.units);
   double radius = 0;
   // Shown in --help as the library's default, never restated.
   double memory_mib = double(MemoryPolicy{}.budget_bytes) / kMiB;
@@ -66,7 +67,7 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
 
 int run_filter(const FilterFlags& flags) {
   FilterParams params = flags.params;
-  params.units = flags.units == "absolute" ? Units::absolute : Units::radius;
+  params.units = parse_units(flags.units);
   params.mean_radius = flags.radius;
   if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
 #ifdef PNF_WITH_MPI
@@ -156,7 +157,9 @@ Command add_filter_command(CLI::App& parent) {
           ->capture_default_str();
   CLI::Option* radius =
       app->add_option("--radius", flags->radius,
-                      "mean surfel radius in model units (default: mean of the radius property, else estimated)");
+                      "mean surfel radius in model units, > 0 (default: mean of the radius property, else "
+                      "estimated)")
+          ->check(finite_positive());
   app->add_flag("--auto", flags->automatic,
                 "estimate spacing, position and normal noise from the data and choose sigma_f, sigma_g and the passes "
                 "(docs/auto.md); without it the paper's settings apply")
