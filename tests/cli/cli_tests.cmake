@@ -7,3 +7,7 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_options_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_errors_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/cli/cli_spacing_test.cpp)
+
+# scripts/demo.sh builds the pnf command alone (stubs stand in for cmake and the tool).
+add_test(NAME demo_script_builds_only_the_tool
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tests/cli/demo_script_test.sh ${PROJECT_SOURCE_DIR})
