@@ -119,10 +119,14 @@ class PointFile:
     @property
     def points(self) -> np.ndarray:
         """(M, 3) float64 positions of the points (M = len(f) less the rows left out, see the class),
-        in file order: a new array on each access (the file keeps its own types)."""
+        in file order: a new, read-only array on each access (the file keeps its own types), so
+        f.points[i] = ... raises ValueError instead of being lost; the positions of a PointFile are
+        not changed in place (make a new one: PointFile(points, normals))."""
     @property
     def normals(self) -> Optional[np.ndarray]:
-        """(M, 3) float64 normals of the same points, or None. Setting takes one row per row of
+        """(M, 3) float64 normals of the same points, or None: a new, read-only array on each access,
+        so f.normals[i] = ... raises ValueError instead of being lost; to change them, assign a whole
+        array (n = f.normals.copy(); n[i] = ...; f.normals = n). Setting takes one row per row of
         .points (not len(f)), stores them in the file's declared type (float stays float), adds
         float nx ny nz to a PLY (normal_x normal_y normal_z to a PCD) that had none, and gives the
         rows left out NaN normals."""
@@ -134,7 +138,8 @@ class PointFile:
         of points and normals and written back with NaN normals; 0 with check_normals=False."""
     @property
     def radii(self) -> Optional[np.ndarray]:
-        """(M,) float64 values of the vertex property `radius` for the points of .points, or None."""
+        """(M,) float64 values of the vertex property `radius` for the points of .points, or None: a
+        new, read-only array on each access."""
     @property
     def format(self) -> str:
         """"ply", "pcd", "xyz", "xyzn" or "pwn": what the file was read from."""
@@ -169,3 +174,8 @@ def render(
 def read(path: _Path, check_normals: bool) -> PointFile: ...
 def _view_info(array: Any) -> dict[str, Any]:
     """What the binding makes of an array (address, dtype, strides, copied); for tests."""
+
+FILTER_DEFAULTS: dict[str, Any]
+"""pnf::FilterParams{}: sigma_f, sigma_g, iterations, units, stop_change_deg, mean_radius."""
+ESTIMATE_DEFAULTS: dict[str, Any]
+"""pnf::EstimateParams{}: k and orient."""

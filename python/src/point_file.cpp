@@ -26,10 +26,17 @@ const char* format_name(PointFileFormat f) {
   return "ply";
 }
 
+// A copy of the file's values, made read-only: writing into it would change the copy only and be
+// silently lost, so numpy refuses it ("assignment destination is read-only") instead.
+py::object read_only(py::object array) {
+  array.attr("setflags")("write"_a = false);
+  return array;
+}
+
 py::object vec3_array(const std::vector<Vec3>& values) {
   Vec3Output out = new_vec3_array(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) out.view.set(i, values[i]);
-  return out.array;
+  return read_only(out.array);
 }
 
 PointFile from_arrays(py::handle points, py::handle normals, py::handle radii) {
@@ -81,9 +88,13 @@ constexpr const char* kClassDoc =
     "places, but are not among them.";
 constexpr const char* kPointsDoc =
     "(M, 3) float64 positions of the points (M = len(f) less the rows left out, see the class),\n"
-    "in file order: a new array on each access (the file keeps its own types).";
+    "in file order: a new, read-only array on each access (the file keeps its own types), so\n"
+    "f.points[i] = ... raises ValueError instead of being lost; the positions of a PointFile are\n"
+    "not changed in place (make a new one: PointFile(points, normals)).";
 constexpr const char* kNormalsDoc =
-    "(M, 3) float64 normals of the same points, or None. Setting takes one row per row of\n"
+    "(M, 3) float64 normals of the same points, or None: a new, read-only array on each access,\n"
+    "so f.normals[i] = ... raises ValueError instead of being lost; to change them, assign a whole\n"
+    "array (n = f.normals.copy(); n[i] = ...; f.normals = n). Setting takes one row per row of\n"
     ".points (not len(f)), stores them in the file's declared type (float stays float), adds\n"
     "float nx ny nz to a PLY (normal_x normal_y normal_z to a PCD) that had none, and gives the\n"
     "rows left out NaN normals.";
@@ -124,9 +135,10 @@ void bind_point_file(py::module_& m) {
             PointCloud c = f.cloud();
             if (!c.has_radii()) return py::none();
             py::object np = py::module_::import("numpy");
-            return np.attr("array")(c.radii, "dtype"_a = "float64");
+            return read_only(np.attr("array")(c.radii, "dtype"_a = "float64"));
           },
-          "(M,) float64 values of the vertex property `radius` for the points of .points, or None.")
+          "(M,) float64 values of the vertex property `radius` for the points of .points, or None: a\n"
+          "new, read-only array on each access.")
       .def_property_readonly(
           "format", [](const PointFile& f) { return format_name(f.source_format()); },
           "\"ply\", \"pcd\", \"xyz\", \"xyzn\" or \"pwn\": what the file was read from.")

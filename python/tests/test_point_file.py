@@ -227,3 +227,23 @@ def test_normals_of_a_pcd_with_invalid_points_take_one_row_per_point(tmp_path):
     f.write(tmp_path / "out.pcd")
     back = pnf.read(tmp_path / "out.pcd", check_normals=False)
     np.testing.assert_allclose(back.normals, -np.delete(normals, [0, 10, 11], axis=0), atol=1e-6)
+
+
+def test_points_normals_and_radii_are_read_only_copies(tmp_path):
+    # Each access makes a new array from the file: writing into one would be silently lost, so
+    # numpy refuses it; the normals change only by assigning a whole array.
+    points, normals, _ = noisy_cube(4)
+    f = pnf.PointFile(points, normals, np.full(len(points), 0.1))
+    for name in ("points", "normals", "radii"):
+        array = getattr(f, name)
+        assert not array.flags.writeable, name
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = 7.0
+        assert (getattr(f, name)[0] != 7.0).all(), name
+    edited = f.normals.copy()
+    edited[0] = [0.0, 0.0, 1.0]
+    f.normals = edited
+    np.testing.assert_array_equal(f.normals[0], [0.0, 0.0, 1.0])
+    f.write(tmp_path / "edited.ply")
+    np.testing.assert_array_equal(pnf.read(tmp_path / "edited.ply").normals[0], [0.0, 0.0, 1.0])
+    assert "read-only" in type(f).points.__doc__ and "read-only" in type(f).normals.__doc__
