@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Builds and installs the Python module into a virtual environment (build/venv, which sees the
-# packages already installed for python3, so that numpy or open3d there need no second download),
-# then runs python/tests with pytest. The CMake build of the module stays in build/pip, so a
-# second run recompiles only what changed. Python build and test tools come from PyPI; the
-# CLI parity tests use ./build/tools/pnf (scripts/build.sh), and skip if it is not there.
+# Builds and installs the Python module and the pnf command into a virtual environment
+# (build/venv, which sees the packages already installed for python3, so that numpy or open3d
+# there need no second download), then runs python/tests with pytest. The CMake build stays in
+# build/pip, so a second run recompiles only what changed. Python build and test tools come from
+# PyPI. The tests run build/venv/bin/pnf, the command this install put there (test_cli.py checks
+# that it is there and works; PNF_CLI names another one for the parity tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python=${PYTHON:-python3}

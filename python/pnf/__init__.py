@@ -52,6 +52,11 @@ __version__ = "0.1.0"
 ArrayLike = Any  # an (N, 3) or (N,) array, or anything numpy.asarray accepts
 PathLike = Union[str, "os.PathLike[str]"]
 
+# The library's defaults (pnf::FilterParams{}, pnf::EstimateParams{}), the same ones `pnf filter
+# --help` shows: the signatures below take them from there instead of writing them again.
+_FILTER = _pnf.FILTER_DEFAULTS
+_ESTIMATE = _pnf.ESTIMATE_DEFAULTS
+
 # The range of the C int that counts (iterations, k, pixels, threads) are passed on as.
 _INT_RANGE = (-(2**31), 2**31 - 1)
 
@@ -74,10 +79,10 @@ def improve_normals(
     points: ArrayLike,
     normals: ArrayLike,
     *,
-    sigma_f: float = 4.0,
-    sigma_g: float = 0.5,
-    iterations: int = 4,
-    units: str = "radius",
+    sigma_f: float = _FILTER["sigma_f"],
+    sigma_g: float = _FILTER["sigma_g"],
+    iterations: int = _FILTER["iterations"],
+    units: str = _FILTER["units"],
     mean_radius: Optional[float] = None,
     auto: bool = False,
     device: Optional[str] = None,
@@ -93,10 +98,12 @@ def improve_normals(
 
     points, normals: (N, 3) arrays (float32 or float64 read in place, see the module's doc);
         normals are oriented and need not be unit length.
-    sigma_f: width of the spatial Gaussian; neighbours reach 2 sigma_f. Default 4.
+    Defaults are the library's (pnf::FilterParams, the paper's settings), as the signature shows.
+
+    sigma_f: width of the spatial Gaussian; neighbours reach 2 sigma_f.
     sigma_g: width of the feature Gaussian on the distance to a neighbour's tangent plane;
-        smaller keeps edges sharper. Default 0.5.
-    iterations: passes, each using the previous pass's normals: a whole number >= 0. Default 4.
+        smaller keeps edges sharper.
+    iterations: passes, each using the previous pass's normals: a whole number >= 0.
     units: "radius" (sigmas are multiples of the mean surfel radius) or "absolute" (model units).
     mean_radius: the mean surfel radius in model units, finite and > 0; None: the mean of
         `radii` when given, else estimated from the points (the median distance to the 4
@@ -110,7 +117,9 @@ def improve_normals(
         prefixed ("opencl:gpu"), or "reference"; None: the PNF_DEVICE variable, else the first
         GPU, else the first CPU.
     backend: "opencl" (float32 kernels, on `device`) or "reference" (double-precision C++ on
-        all cores, no OpenCL needed; `device` must then be None or "reference").
+        all cores, no OpenCL needed; `device` must then be None or "reference", else ValueError
+        naming both). backend and device are read by the library's one parser, the CLI's too
+        (pnf::parse_backend_and_device), so --backend and --device take and refuse the same.
     progress: called as progress(pass_done, passes, seconds) after each pass; returning False
         cancels the run (Cancelled is raised). It is not called while the neighbour lists are
         built; Ctrl-C cancels between passes and, within about 0.2 s, during the list build.
@@ -158,7 +167,11 @@ def choose_params(
 
 
 def estimate_normals(
-    points: ArrayLike, *, k: int = 16, orient: str = "mst", viewpoint: Sequence[float] = (0.0, 0.0, 0.0)
+    points: ArrayLike,
+    *,
+    k: int = _ESTIMATE["k"],
+    orient: str = _ESTIMATE["orient"],
+    viewpoint: Sequence[float] = (0.0, 0.0, 0.0),
 ) -> np.ndarray:
     """Oriented unit normals for points that have none: a PCA fit over each point's k nearest
     points, the point itself included (as PCL's setKSearch and Open3D's KDTreeSearchParamKNN

@@ -18,6 +18,7 @@
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/normal_filter.hpp"
+#include "pnf/options_text.hpp"
 #include "pnf/render.hpp"
 
 namespace pnf::python {
@@ -25,28 +26,12 @@ namespace {
 
 using namespace pybind11::literals;
 
-Units parse_units(const std::string& units) {
-  if (units == "radius") return Units::radius;
-  if (units == "absolute") return Units::absolute;
-  throw Error(ErrorCode::invalid_argument, "units must be \"radius\" or \"absolute\", got \"" + units + "\"");
-}
-
-// backend "reference" is the reference; "opencl" takes `device` as Device::parse reads it
-// ("gpu", "pocl", "1:0", "opencl:cpu", even "reference"), None meaning PNF_DEVICE or the default
-// rule. The same mapping as the CLI's --backend and --device.
+// backend= and device= as the CLI's --backend and --device: one parser, pnf::parse_backend_and_device
+// (pnf/options_text.hpp), so the same pairs are taken and refused with the same message. None
+// for device is the empty text: PNF_DEVICE, then the default rule.
 FilterOptions filter_options(const std::optional<std::string>& device, const std::string& backend) {
   FilterOptions options;
-  if (backend == "reference") {
-    if (device && Device::parse(*device) != Device::reference()) {
-      throw Error(ErrorCode::invalid_argument,
-                  "backend=\"reference\" runs on the CPU; device=\"" + *device + "\" needs backend=\"opencl\"");
-    }
-    options.device = Device::reference();
-  } else if (backend == "opencl") {
-    options.device = Device::parse(device.value_or(""));
-  } else {
-    throw Error(ErrorCode::invalid_argument, "backend must be \"opencl\" or \"reference\", got \"" + backend + "\"");
-  }
+  options.device = parse_backend_and_device(backend, device.value_or(""));
   options.validate();
   return options;
 }
@@ -351,4 +336,14 @@ PYBIND11_MODULE(_pnf, m) {
         "elevation"_a, "light"_a, "mode"_a, "reference_normals"_a.none(true), "error_max"_a, "radius_scale"_a,
         "frame"_a.none(true), "threads"_a);
   m.def("_view_info", &view_info, "array"_a);
+  // The library's defaults, for the signatures in python/pnf/__init__.py: written once, in
+  // pnf::FilterParams and pnf::EstimateParams.
+  const pnf::FilterParams filter_defaults{};
+  m.attr("FILTER_DEFAULTS") =
+      py::dict("sigma_f"_a = filter_defaults.sigma_f, "sigma_g"_a = filter_defaults.sigma_g,
+               "iterations"_a = filter_defaults.iterations, "units"_a = pnf::to_string(filter_defaults.units),
+               "stop_change_deg"_a = filter_defaults.stop_change_deg, "mean_radius"_a = filter_defaults.mean_radius);
+  const pnf::EstimateParams estimate_defaults{};
+  m.attr("ESTIMATE_DEFAULTS") =
+      py::dict("k"_a = estimate_defaults.k, "orient"_a = pnf::to_string(estimate_defaults.orientation));
 }

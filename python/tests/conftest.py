@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import pathlib
+import sysconfig
 
 import numpy as np
 import pytest
@@ -73,9 +74,20 @@ def cube():
 
 
 @pytest.fixture
-def cli() -> pathlib.Path:
-    """The pnf command-line tool: $PNF_CLI, else build/tools/pnf of this checkout."""
-    path = pathlib.Path(os.environ.get("PNF_CLI", REPO / "build" / "tools" / "pnf"))
+def installed_cli() -> pathlib.Path:
+    """The `pnf` command that `pip install .` put beside this Python (its scripts folder, such
+    as venv/bin); a failure when it is not there, since the install is meant to carry it."""
+    path = pathlib.Path(sysconfig.get_path("scripts")) / "pnf"
     if not path.is_file():
-        pytest.skip(f"the pnf CLI is not built at {path} (bash scripts/build.sh builds it; or set PNF_CLI)")
+        pytest.fail(f"no pnf command at {path}: `pip install .` should install it with the module")
+    return path
+
+
+@pytest.fixture
+def cli(installed_cli) -> pathlib.Path:
+    """The pnf command-line tool the parity tests compare with: $PNF_CLI, else the installed one
+    (built from the same sources in the same `pip install .` as the module)."""
+    path = pathlib.Path(os.environ["PNF_CLI"]) if os.environ.get("PNF_CLI") else installed_cli
+    if not path.is_file():
+        pytest.fail(f"PNF_CLI={path} is not a file")
     return path
