@@ -4,7 +4,9 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "launcher.hpp"
 #include "pnf/auto_params.hpp"
+#include "pnf/filter_file_options.hpp"
 #include "pnf/options_text.hpp"
 #include "pnf/point_file.hpp"
 #ifdef PNF_WITH_MPI
@@ -65,29 +67,35 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "  wrote        %s (%.2f s)\n", f.out.c_str(), write_s);
 }
 
+// The one value both runs take, built once from the flags.
+FilterFileOptions file_options(const FilterFlags& flags) {
+  FilterFileOptions o;
+  o.params = flags.params;
+  o.params.units = parse_units(flags.units);
+  o.params.mean_radius = flags.radius;
+  o.options = flags.device.options();
+  o.options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
+  o.options.memory.max_neighbour_pairs = flags.max_pairs;
+  o.options.max_seconds = flags.max_seconds;
+  o.write = write_options(flags.ascii, flags.pcd_data);
+  o.automatic = flags.automatic;
+  o.stop_change_deg = flags.stop_change;
+  o.in_place = flags.in_place;
+  return o;
+}
+
 int run_filter(const FilterFlags& flags) {
-  FilterParams params = flags.params;
-  params.units = parse_units(flags.units);
-  params.mean_radius = flags.radius;
-  if (flags.stop_change >= 0) params.stop_change_deg = flags.stop_change;
+  const FilterFileOptions o = file_options(flags);
 #ifdef PNF_WITH_MPI
-  if (launched_as_many()) {
-    DistributedFilterRun run{flags.in, flags.out, params, flags.device.options()};
-    run.options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
-    run.options.memory.max_neighbour_pairs = flags.max_pairs;
-    run.ascii = flags.ascii;
-    run.quiet = flags.quiet;
-    run.automatic = flags.automatic;
-    run.in_place = flags.in_place;
-    run.stop_change = flags.stop_change;
-    return run_filter_distributed(run);
-  }
+  if (launched_as_many()) return run_filter_distributed(flags.in, flags.out, o, flags.quiet);
 #endif
   Stage stage = Stage::reading;
   return guarded(stage, [&] {
-    params.validate();
+    FilterParams params = o.run_params();
+    if (!o.automatic) params.validate();
+    o.options.validate();
     check_output_extension(flags.out);
-    check_not_overwriting_input(flags.in, flags.out, flags.in_place);
+    check_not_overwriting_input(flags.in, flags.out, o.in_place);
     auto t = std::chrono::steady_clock::now();
     PointFile file = read_point_file(flags.in);
     const double read_s = seconds_since(t);
@@ -97,20 +105,15 @@ int run_filter(const FilterFlags& flags) {
     }
     stage = Stage::running;
     const PointCloud cloud = file.cloud();
-    FilterOptions options = flags.device.options();
-    options.memory.budget_bytes = static_cast<std::size_t>(flags.memory_mib * kMiB);
-    options.memory.max_neighbour_pairs = flags.max_pairs;
-    options.max_seconds = flags.max_seconds;
-    options.validate();
-    NormalFilter filter(options);
+    NormalFilter filter(o.options);
     FilterResult result;
-    if (flags.automatic) {
+    if (o.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
       // The rule's choice, then its passes, each judged against the surface fitted to the
       // positions; an explicit --stop-change (0 included: off) wins over the rule's.
       result.normals.resize(cloud.size());
-      AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(result.normals), filter,
-                                         progress_bar(flags.quiet), flags.stop_change);
+      AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(result.normals), filter, progress_bar(flags.quiet),
+                                         o.stop_change_deg);
       params = run.choice.params;
       result.summary = run.summary;
       // The run was handed the estimate's mean radius; say where that came from, not "given".
@@ -122,7 +125,7 @@ int run_filter(const FilterFlags& flags) {
     stage = Stage::writing;
     t = std::chrono::steady_clock::now();
     file.set_normals(result.normals);
-    write_point_file(flags.out, file, write_options(flags.ascii, flags.pcd_data));
+    write_point_file(flags.out, file, o.write);
     if (!flags.quiet) {
       print_summary(flags, params, result.summary, read_s, seconds_since(t));
       if (file.without_normals() > 0) {

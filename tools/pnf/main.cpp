@@ -8,6 +8,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
+#include "launcher.hpp"
 
 namespace pnf::cli {
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + c.app->get_name();
     }
     if (!known) {
+      if (launched_rank() != 0) return kUsage;  // under mpirun, said once (rank 0)
       std::fprintf(stderr, "pnf: '%s' is not a pnf command; the commands are %s (pnf --help)\n", word.c_str(),
                    names.c_str());
       return kUsage;
@@ -60,11 +62,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return launched_rank() == 0 ? app.exit(e) : 0;
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return launched_rank() == 0 ? app.exit(e) : 0;
   } catch (const CLI::ParseError& e) {
-    app.exit(e);  // prints the message and a hint to use --help
+    // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong.
+    if (launched_rank() == 0) app.exit(e);  // prints the message and a hint to use --help
     return kUsage;
   }
   for (const Command& c : commands) {

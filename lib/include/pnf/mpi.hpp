@@ -19,10 +19,12 @@
 #include <mpi.h>
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "pnf/auto_params.hpp"
 #include "pnf/cloud_view.hpp"
+#include "pnf/filter_file_options.hpp"
 #include "pnf/normal_filter.hpp"
 
 namespace pnf::mpi {
@@ -84,5 +86,45 @@ struct DistributedAutoRun {
 DistributedAutoRun improve_normals_auto(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                         const FilterOptions& options = {}, const ProgressCallback& progress = {},
                                         double stop_change_deg = -1);
+
+// How far filter_file got: set as it goes, also when it throws (an io error while reading is the
+// input's, while writing the output's).
+enum class FileStep { reading, filtering, writing };
+
+// What filter_file did; the same on every rank but summary.local and kept_without_normals.
+struct FileRun {
+  DistributedSummary summary;
+  FilterParams params;  // the settings the run used (with automatic: the choice's, passes kept)
+  AutoChoice choice;    // with options.automatic: the estimate, the rule and the judged passes
+  bool sliced = false;  // each rank read and wrote its own rows (binary PLY in and out); else rank 0
+                        // read and wrote the file and the points were scattered and gathered
+  double read_seconds = 0, auto_seconds = 0, write_seconds = 0;  // the slowest rank's
+  // Rank 0: points kept as they were (NaN normals, PCD), as one process reports them.
+  std::size_t kept_without_normals = 0;
+};
+
+// `mpirun -np P pnf filter IN OUT` in one call: reads `in_path`, filters it across the ranks of
+// `comm` (improve_normals, or improve_normals_auto with options.automatic) and writes
+// `out_path` in the format its extension names (options.write), replacing it atomically.
+// `options` is the value the one-process run takes (pnf/filter_file_options.hpp), with the
+// limits counted for the whole job: options.options.max_seconds bounds each rank's estimated
+// time (the ranks run at once: the job's wall time), memory.max_neighbour_pairs the neighbour
+// pairs of all ranks together (a rank whose own estimate passes it refuses before its lists
+// are built; the job's exact count, the ranks' summed, is compared after the passes, before
+// anything is written: a refusal, exit 2 in pnf filter, that comes after the work). Binary
+// little-endian PLY in and out: each rank reads and writes its own rows, and no rank holds the
+// whole file; anything else: rank 0 reads the file, scatters the points, gathers the normals
+// and writes. OUT is written in a staging folder beside it,
+// ".OUT.pnf-mpi-PID-XXXXXX" (rank 0's process id), locked by rank 0 for the life of the job,
+// and renamed over OUT only once every rank has written its part and no rank was cancelled; on
+// any failure the folder is removed, and a folder left by a killed job (no lock holder) is
+// removed by the next filter_file writing OUT. `progress` is called on every rank that passes
+// one (pass an empty one on the ranks that should not draw), during the run and once more
+// before OUT is replaced: false on any rank then cancels, OUT untouched. Collective; throws
+// pnf::Error on every rank alike when any rank fails, the message naming the first failing rank
+// ("rank 2 of 4: ..."); `step`, when given, says where.
+FileRun filter_file(MPI_Comm comm, const std::string& in_path, const std::string& out_path,
+                    const FilterFileOptions& options = {}, const ProgressCallback& progress = {},
+                    FileStep* step = nullptr);
 
 }  // namespace pnf::mpi

@@ -249,72 +249,45 @@ PlySlice read_slice(const std::string& path, const PlySliceLayout& layout, int r
   return slice;
 }
 
-void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path, const PlySliceLayout& layout,
+void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& path, const PlySliceLayout& layout,
                   PlySlice& slice, const std::vector<Vec3>& normals) {
   const Agreement agree(comm);
-  // Rank 0 names and creates the temporary file; every rank learns the name.
-  std::string temporary;
+  // Rank 0 creates the file (0666 less the umask, as write_point_file's); then every rank opens it.
   agree.run([&] {
     if (agree.rank() != 0) return;
-    const std::filesystem::path target(out_path);
-    const std::filesystem::path folder = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
-    std::string pattern = (folder / ("." + target.filename().string() + ".pnf-mpi-XXXXXX")).string();
-    const int fd = ::mkstemp(pattern.data());
-    if (fd < 0) io_error(out_path, "cannot create a temporary file in " + folder.string(), errno);
-    // mkstemp makes it 0600; the output gets the usual 0666 less the umask, as AtomicFile's.
-    const mode_t mask = ::umask(0);
-    ::umask(mask);
-    ::fchmod(fd, 0666 & ~mask);
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) io_error(path, "cannot create", errno);
     ::close(fd);
-    temporary = pattern;
   });
-  int length = int(temporary.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  temporary.resize(std::size_t(length));
-  MPI_Bcast(temporary.data(), length, MPI_CHAR, 0, comm);
-  const auto remove_temporary = [&] {
-    if (agree.rank() == 0) std::remove(temporary.c_str());
-  };
-  try {
-    agree.run([&] {
-      for (std::size_t i = 0; i < normals.size(); ++i) {
-        unsigned char* row = &slice.rows[i * layout.row_size];
-        for (int k = 0; k < 3; ++k)
-          store_real(layout.normal_type[k], normals[i][std::size_t(k)], row + layout.normal_offset[k]);
-      }
-      const Descriptor out(temporary, O_WRONLY);
-      // The output is the input with the header rewritten as write_point_file writes it.
-      const std::uint64_t shift = layout.output_header.size();
-      const auto out_offset = [&](std::uint64_t in_offset) { return in_offset - layout.body_offset + shift; };
-      out.write_at(slice.rows.data(), slice.rows.size(),
-                   out_offset(layout.vertex_offset + slice.first * layout.row_size));
-      if (agree.rank() == 0) {
-        out.write_at(layout.output_header.data(), layout.output_header.size(), 0);
-        // The other elements' bytes, before and after the vertex rows, copied unchanged.
-        const Descriptor in(in_path, O_RDONLY);
-        const std::uint64_t vertex_end = layout.vertex_offset + layout.vertex_count * layout.row_size;
-        std::vector<unsigned char> buffer;
-        for (auto [from, to] :
-             {std::pair{layout.body_offset, layout.vertex_offset}, std::pair{vertex_end, layout.body_end}}) {
-          for (std::uint64_t at = from; at < to; at += kCopyChunk) {
-            buffer.resize(std::size_t(std::min<std::uint64_t>(kCopyChunk, to - at)));
-            in.read_at(buffer.data(), buffer.size(), at);
-            out.write_at(buffer.data(), buffer.size(), out_offset(at));
-          }
+  agree.run([&] {
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      unsigned char* row = &slice.rows[i * layout.row_size];
+      for (int k = 0; k < 3; ++k)
+        store_real(layout.normal_type[k], normals[i][std::size_t(k)], row + layout.normal_offset[k]);
+    }
+    const Descriptor out(path, O_WRONLY);
+    // The output is the input with the header rewritten as write_point_file writes it.
+    const std::uint64_t shift = layout.output_header.size();
+    const auto out_offset = [&](std::uint64_t in_offset) { return in_offset - layout.body_offset + shift; };
+    out.write_at(slice.rows.data(), slice.rows.size(),
+                 out_offset(layout.vertex_offset + slice.first * layout.row_size));
+    if (agree.rank() == 0) {
+      out.write_at(layout.output_header.data(), layout.output_header.size(), 0);
+      // The other elements' bytes, before and after the vertex rows, copied unchanged.
+      const Descriptor in(in_path, O_RDONLY);
+      const std::uint64_t vertex_end = layout.vertex_offset + layout.vertex_count * layout.row_size;
+      std::vector<unsigned char> buffer;
+      for (auto [from, to] :
+           {std::pair{layout.body_offset, layout.vertex_offset}, std::pair{vertex_end, layout.body_end}}) {
+        for (std::uint64_t at = from; at < to; at += kCopyChunk) {
+          buffer.resize(std::size_t(std::min<std::uint64_t>(kCopyChunk, to - at)));
+          in.read_at(buffer.data(), buffer.size(), at);
+          out.write_at(buffer.data(), buffer.size(), out_offset(at));
         }
       }
-      out.sync();
-    });
-    // Every rank has written and synced: only now does the file take the target's name.
-    agree.run([&] {
-      if (agree.rank() == 0 && std::rename(temporary.c_str(), out_path.c_str()) != 0) {
-        io_error(out_path, "cannot rename " + temporary + " to it", errno);
-      }
-    });
-  } catch (...) {
-    remove_temporary();
-    throw;
-  }
+    }
+    out.sync();
+  });
 }
 
 }  // namespace pnf::mpi::detail

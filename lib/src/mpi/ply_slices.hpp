@@ -1,8 +1,9 @@
 // Parallel PLY I/O for a distributed run: each rank reads its own slice of the vertex rows of a
 // binary_little_endian file (offsets from the header; no rank reads the whole file) and writes
-// its slice of the result into one shared temporary file next to the target, which rank 0
-// renames into place once every rank has succeeded. Files this cannot slice (ascii, big endian,
-// list properties, integer normals) are left to the caller's rank-0 path.
+// its slice of the result into one shared file in the run's staging folder beside the target
+// (staged_output.hpp), which takes the target's name once every rank has succeeded. Files this
+// cannot slice (ascii, big endian, list properties, integer normals) are left to the caller's
+// rank-0 path.
 #pragma once
 
 #include <mpi.h>
@@ -52,10 +53,11 @@ struct PlySlice {
 PlySlice read_slice(const std::string& path, const PlySliceLayout& layout, int rank, int ranks);
 
 // Collective: writes the header, the other elements (copied from `in_path`) and every rank's
-// rows, with `normals` (the slice's rows) stored in their declared types, into one temporary
-// file next to `out_path`; after every rank has written and synced, rank 0 renames it over
-// `out_path`. On any rank's failure every rank throws the agreed error and no file is left.
-void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& out_path, const PlySliceLayout& layout,
+// rows, with `normals` (the slice's rows) stored in their declared types, into `path`, a new
+// file that rank 0 creates (in the run's staging folder: StagedOutput); every rank writes its
+// rows and syncs. On any rank's failure every rank throws the agreed error; removing `path` is
+// the caller's.
+void write_slices(MPI_Comm comm, const std::string& in_path, const std::string& path, const PlySliceLayout& layout,
                   PlySlice& slice, const std::vector<Vec3>& normals);
 
 }  // namespace pnf::mpi::detail
