@@ -39,7 +39,10 @@ def main():
         fmt = "<" + "".join(t for _, t in props)
         size = struct.calcsize(fmt)
         names = [n for n, _ in props]
-        normal = [names.index(n) for n in ("nx", "ny", "nz")] if name == "vertex" and "nx" in names else []
+        normal = []
+        for fields in (("nx", "ny", "nz"), ("normal_x", "normal_y", "normal_z")):  # PLY's, PCL's
+            if name == "vertex" and fields[0] in names:
+                normal = [names.index(n) for n in fields]
         for r in range(count):
             a = struct.unpack_from(fmt, expected, offset + r * size)
             b = struct.unpack_from(fmt, actual, offset + r * size)

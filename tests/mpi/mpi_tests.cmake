@@ -1,7 +1,8 @@
 # pnf::mpi under mpirun: the library test on P = 1..4 ranks (oversubscribed on small machines;
 # Open MPI refuses root without the two variables). Included from tests/CMakeLists.txt when
 # PNF_WITH_MPI is on.
-add_executable(pnf_mpi_tests ${PROJECT_SOURCE_DIR}/tests/mpi/mpi_test.cpp)
+add_executable(pnf_mpi_tests ${PROJECT_SOURCE_DIR}/tests/mpi/mpi_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/mpi/filter_file_test.cpp)
 target_include_directories(pnf_mpi_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests ${PROJECT_SOURCE_DIR}/lib/src
   ${PROJECT_SOURCE_DIR}/lib/src/mpi)
 target_link_libraries(pnf_mpi_tests PRIVATE pnf_mpi GTest::gtest)
@@ -26,5 +27,12 @@ if(TARGET pnf_cli)
       COMMAND bash ${PROJECT_SOURCE_DIR}/tests/mpi/cli_mpi_test.sh $<TARGET_FILE:pnf_cli> ${MPIEXEC_EXECUTABLE}
               ${CMAKE_CURRENT_BINARY_DIR}/mpi_cli_work)
     set_tests_properties(mpi_cli PROPERTIES TIMEOUT 600 ENVIRONMENT "${PNF_MPI_TEST_ENVIRONMENT}")
+    # Every filter flag under mpirun, OUT in every format for P = 1..4, a kill during the write.
+    foreach(part flags formats kill)
+      add_test(NAME mpi_cli_${part}
+        COMMAND bash ${PROJECT_SOURCE_DIR}/tests/mpi/cli_mpi_${part}_test.sh $<TARGET_FILE:pnf_cli>
+                ${MPIEXEC_EXECUTABLE} ${CMAKE_CURRENT_BINARY_DIR}/mpi_cli_${part}_work)
+      set_tests_properties(mpi_cli_${part} PROPERTIES TIMEOUT 300 ENVIRONMENT "${PNF_MPI_TEST_ENVIRONMENT}")
+    endforeach()
   endif()
 endif()
