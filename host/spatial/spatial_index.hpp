@@ -15,7 +15,7 @@
 namespace pnf::detail {
 
 // Asked by the long searches below (count_within, fill_lists, lists_within, nearest_table) on the
-// calling thread only, about every kPollSeconds (spatial_index.cpp), with the share of the work
+// calling thread only, about every kPollSeconds (parallel_blocks.hpp), with the share of the work
 // done in [0, 1]; returning false cancels: the worker threads stop at their next block and the
 // search throws pnf::Error(cancelled). An exception it throws stops the workers the same way and
 // is rethrown. Empty: never asked.
@@ -112,6 +112,12 @@ class SpatialIndex {
   // summed nearest first). Empty when N < k + 1 or max_samples is 0.
   std::vector<double> mean_knn_distance(int k, std::size_t max_samples,
                                         const std::vector<std::uint32_t>* order = nullptr) const;
+  // mean_knn_distance's value for one point: the mean distance of point `point` to its k nearest
+  // other points. Needs 1 <= k <= N - 1. One thread.
+  double mean_nearest_distance(std::size_t point, int k) const;
+  // The SQUARED distances of the k nearest points of point `point` (itself, at 0, among them
+  // unless k duplicates of it exist), ascending. Needs 1 <= k <= N. One thread.
+  std::vector<double> nearest_squared_distances(std::size_t point, int k) const;
 
   // ---- fixed radius (SPEC's neighbourhood |p - s| <= radius, inclusive) ----
 

@@ -10,25 +10,25 @@
 #include "spatial/spatial_order.hpp"
 
 namespace pnf {
-namespace {
-
-// The 4 nearest points of a square-grid sample are its edge neighbours at exactly the spacing.
-constexpr int kSpacingNeighbours = 4;
-// Enough samples for a median to a fraction of a percent; bounds the cost on huge clouds.
-constexpr std::size_t kMaxSpacingSamples = 100000;
-
-}  // namespace
-
 namespace detail {
 
-double estimate_mean_radius(const SpatialIndex& index, const std::vector<std::uint32_t>* curve_order) {
-  std::vector<double> distances = index.mean_knn_distance(kSpacingNeighbours, kMaxSpacingSamples, curve_order);
-  // A point whose 4 nearest are all duplicates of it says nothing about the spacing.
+double median_spacing(std::vector<double> distances) {
   distances.erase(std::remove(distances.begin(), distances.end(), 0.0), distances.end());
   if (distances.empty()) return 0;
-  auto middle = distances.begin() + distances.size() / 2;
+  auto middle = distances.begin() + std::ptrdiff_t(distances.size() / 2);
   std::nth_element(distances.begin(), middle, distances.end());
   return *middle;
+}
+
+void throw_cannot_estimate_mean_radius(std::size_t points) {
+  throw Error(ErrorCode::invalid_input,
+              "cannot estimate the mean surfel radius of " + std::to_string(points) +
+                  " points (it needs at least 5 points, not most of them at one place); give the mean radius "
+                  "explicitly or use absolute units");
+}
+
+double estimate_mean_radius(const SpatialIndex& index, const std::vector<std::uint32_t>* curve_order) {
+  return median_spacing(index.mean_knn_distance(kSpacingNeighbours, kMaxSpacingSamples, curve_order));
 }
 
 MeanRadius resolve_mean_radius(double given, const ScalarArrayView& radii, std::size_t points,
@@ -40,12 +40,7 @@ MeanRadius resolve_mean_radius(double given, const ScalarArrayView& radii, std::
     return {sum / double(radii.count), RadiusSource::property};
   }
   const double value = estimate();
-  if (!(value > 0)) {
-    throw Error(ErrorCode::invalid_input,
-                "cannot estimate the mean surfel radius of " + std::to_string(points) +
-                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
-                    "explicitly or use absolute units");
-  }
+  if (!(value > 0)) throw_cannot_estimate_mean_radius(points);
   return {value, RadiusSource::estimate};
 }
 

@@ -1,7 +1,5 @@
 #include "mean_radius_mpi.hpp"
 
-#include <flann/flann.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,47 +7,15 @@
 
 #include "agreement.hpp"
 #include "halo.hpp"
+#include "mean_radius_internal.hpp"
+#include "spatial/spatial_index.hpp"
 
 namespace pnf::mpi::detail {
 namespace {
 
-// As lib/src/mean_radius.cpp defines the estimate: the mean distance to the 4 nearest other
-// points, over up to 100,000 samples spread evenly along the curve. The MPI tests compare the
-// two bit for bit, so a change there shows here.
-constexpr int kSpacingNeighbours = 4;
-constexpr std::uint64_t kMaxSpacingSamples = 100000;
-
-using Distance = flann::L2<double>;  // FLANN's L2 is the SQUARED Euclidean distance
-
-// Exact k nearest (the point itself included) over a set of re-centred positions.
-class NearestSearch {
- public:
-  explicit NearestSearch(std::vector<double> positions)
-      : positions_(std::move(positions)),
-        data_(positions_.data(), positions_.size() / 3, 3),
-        index_(data_, flann::KDTreeSingleIndexParams(/*leaf_max_size=*/10, /*reorder=*/true)) {
-    index_.buildIndex();
-  }
-  // The squared distances of the k nearest, ascending (FLANN's KNN result set keeps them sorted,
-  // as in SpatialIndex::mean_knn_distance, so the sums below add in the same order).
-  std::vector<double> squared(const double* query, int k) const {
-    const std::size_t count = static_cast<std::size_t>(k);
-    flann::KNNResultSet<double> result(count);
-    flann::SearchParams params;
-    params.eps = 0;
-    params.sorted = false;
-    index_.findNeighbors(result, query, params);
-    std::vector<std::size_t> ids(count);
-    std::vector<double> d2(count);
-    result.copy(ids.data(), d2.data(), count, false);
-    return d2;
-  }
-
- private:
-  std::vector<double> positions_;
-  flann::Matrix<double> data_;
-  flann::KDTreeSingleIndex<Distance> index_;
-};
+using pnf::detail::kMaxSpacingSamples;
+using pnf::detail::kSpacingNeighbours;
+using pnf::detail::SpatialIndex;
 
 std::vector<double> recentred(const std::vector<double>& positions, const Vec3& centre) {
   std::vector<double> out(positions.size());
@@ -79,8 +45,8 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
     if (n < std::size_t(k) + 1) {
       width = std::numeric_limits<double>::infinity();
     } else {
-      NearestSearch search(own);
-      for (std::uint32_t i : mine) width = std::max(width, std::sqrt(search.squared(&own[3 * i], k + 1).back()));
+      const SpatialIndex search(own, SpatialIndex::Layout::any_order);
+      for (std::uint32_t i : mine) width = std::max(width, std::sqrt(search.nearest_squared_distances(i, k + 1).back()));
     }
   }
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPI_DOUBLE, MPI_MAX, comm), "MPI_Allreduce");
@@ -95,12 +61,9 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
   std::vector<double> distances;
   distances.reserve(mine.size());
   if (!mine.empty()) {
-    NearestSearch search(std::move(all));
-    for (std::uint32_t i : mine) {
-      double sum = 0;
-      for (double d2 : search.squared(&own[3 * i], k + 1)) sum += std::sqrt(d2);
-      distances.push_back(sum / k);
-    }
+    // The samples are this rank's own points: the first rows of `all`.
+    const SpatialIndex search(std::move(all), SpatialIndex::Layout::any_order);
+    for (std::uint32_t i : mine) distances.push_back(search.mean_nearest_distance(i, k));
   }
   // The median over every sample, on rank 0, as estimate_mean_radius takes it.
   int rank = 0, ranks = 1;
@@ -114,15 +77,7 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
   check_mpi(MPI_Gatherv(distances.data(), count, MPI_DOUBLE, gathered.data(), counts.data(), displs.data(), MPI_DOUBLE,
                         0, comm),
             "MPI_Gatherv");
-  double median = 0;
-  if (rank == 0) {
-    gathered.erase(std::remove(gathered.begin(), gathered.end(), 0.0), gathered.end());
-    if (!gathered.empty()) {
-      auto middle = gathered.begin() + std::ptrdiff_t(gathered.size() / 2);
-      std::nth_element(gathered.begin(), middle, gathered.end());
-      median = *middle;
-    }
-  }
+  double median = rank == 0 ? pnf::detail::median_spacing(std::move(gathered)) : 0.0;
   check_mpi(MPI_Bcast(&median, 1, MPI_DOUBLE, 0, comm), "MPI_Bcast");
   return median;
 }
@@ -169,12 +124,7 @@ double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoi
   }
   source = RadiusSource::estimate;
   const double radius = estimate(comm, owned, frame);
-  if (!(radius > 0)) {
-    throw Error(ErrorCode::invalid_input,
-                "cannot estimate the mean surfel radius of " + std::to_string(owned.total) +
-                    " points (it needs at least 5 points, not most of them at one place); give the mean radius "
-                    "explicitly or use absolute units");
-  }
+  if (!(radius > 0)) pnf::detail::throw_cannot_estimate_mean_radius(owned.total);
   return radius;
 }
 
