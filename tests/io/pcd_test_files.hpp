@@ -121,4 +121,12 @@ inline std::string test_ascii_body(const std::vector<TestField>& fields, const s
 
 inline std::string float_bytes(float value) { return std::string(reinterpret_cast<const char*>(&value), 4); }
 
+// The DATA section of a PCD file for `rows` (packed binary rows of `fields`) in the DATA kind
+// `data` names: ascii, binary (the rows themselves) or binary_compressed.
+inline std::string test_body(const std::string& data, const std::vector<TestField>& fields, const std::string& rows) {
+  if (data == "ascii") return test_ascii_body(fields, rows);
+  if (data == "binary_compressed") return test_compressed_body(fields, rows);
+  return rows;
+}
+
 }  // namespace pnf::test
