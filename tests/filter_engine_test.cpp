@@ -183,7 +183,7 @@ TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
 #endif
   std::string why;
   pnf::NormalFilter* unused = pnf::test::opencl_filter(why);
-  if (!unused) GTEST_SKIP() << "no OpenCL device: " << why;
+  if (!unused) PNF_OPENCL_OR_SKIP(why);
   pnf::PointCloud ball = noisy_sphere(20000, 5);
   pnf::FilterOptions options;
   options.max_seconds = 0;  // no limit, no probe

@@ -70,10 +70,7 @@ void expect_parity(const PointCloud& cloud, const pnf::FilterParams& params, con
   const std::string name = case_name + " (" + build.name + ")";
   std::string why;
   pnf::detail::FilterBackend* opencl = opencl_backend(build, why);
-  if (!opencl) {
-    if (std::getenv("PNF_DEVICE")) FAIL() << "PNF_DEVICE is set but: " << why;
-    GTEST_SKIP() << "no OpenCL device: " << why;
-  }
+  if (!opencl) PNF_OPENCL_OR_SKIP(why);
   pnf::FilterResult result;
   result.normals.resize(cloud.size());
   result.summary = pnf::detail::run_filter(*opencl, pnf::FilterOptions{}, cloud, result.normals, params, {});

@@ -34,7 +34,7 @@ class FilterViewsTest : public ::testing::TestWithParam<Backend> {};
 
 TEST_P(FilterViewsTest, FloatAndStridedViewsGiveThePointCloudNormalsBitForBit) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
-  if (!filter) GTEST_SKIP() << "no OpenCL device";
+  PNF_SKIP_IF_NULL(filter);
   const PointCloud ball = float_exact_sphere();
   const std::size_t n = ball.size();
   const std::vector<Vec3> expected = filter->run(ball).normals;
@@ -84,7 +84,7 @@ TEST_P(FilterViewsTest, FloatAndStridedViewsGiveThePointCloudNormalsBitForBit) {
 
 TEST_P(FilterViewsTest, WritesIntoTheCallersStridedBufferAndInPlace) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
-  if (!filter) GTEST_SKIP() << "no OpenCL device";
+  PNF_SKIP_IF_NULL(filter);
   const PointCloud ball = float_exact_sphere();
   const std::size_t n = ball.size();
   const std::vector<Vec3> expected = filter->run(ball).normals;
@@ -119,7 +119,7 @@ TEST_P(FilterViewsTest, WritesIntoTheCallersStridedBufferAndInPlace) {
 
 TEST_P(FilterViewsTest, AnOutputOfTheWrongSizeIsRefusedAndNothingWritten) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
-  if (!filter) GTEST_SKIP() << "no OpenCL device";
+  PNF_SKIP_IF_NULL(filter);
   const PointCloud ball = float_exact_sphere();
   std::vector<Vec3> out(ball.size() - 1, Vec3{7, 7, 7});
   try {

@@ -158,7 +158,7 @@ TEST_P(NormalFilterTest, RotatingTheInputRotatesTheOutput) {
 TEST_P(NormalFilterTest, ChunkedEqualsWhole) {
   if (GetParam() == Backend::opencl) {
     std::string why;
-    if (!pnf::test::opencl_filter(why)) GTEST_SKIP() << "no OpenCL device: " << why;
+    if (!pnf::test::opencl_filter(why)) PNF_OPENCL_OR_SKIP(why);
   }
   PointCloud ball = sphere(4000, 5.0, 13);
   std::mt19937 rng(14);

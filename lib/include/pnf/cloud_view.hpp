@@ -49,8 +49,6 @@ struct StridedRows {
   }
   Vec3 at(std::size_t i) const { return {get(i, 0), get(i, 1), get(i, 2)}; }
   bool empty() const { return count == 0; }
-  // True when the rows are packed x y z doubles, so data can be read as one double array.
-  bool packed_double() const { return type == ScalarType::float64 && row_step() == 24 && component_step() == 8; }
 };
 }  // namespace detail
 
