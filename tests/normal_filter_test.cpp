@@ -351,6 +351,36 @@ TEST_P(NormalFilterTest, DegenerateCloudsFollowSpec) {
   EXPECT_NE(run_error(*filter, heap).find("cannot estimate the mean surfel radius"), std::string::npos);
 }
 
+// The input's row order changes nothing: the same normals, permuted, bit for bit. Every point's
+// neighbours are visited in one order (the curve's, ties by the positions' and then the normals'
+// bits), so every sum rounds alike. Exact duplicates, some with other normals, are the ties.
+TEST_P(NormalFilterTest, PermutedRowsGiveThePermutedNormals) {
+  NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
+  PNF_SKIP_IF_NULL(filter);
+  PointCloud cloud = sphere(3000, 5.0, 31);
+  std::mt19937 rng(32);
+  for (Vec3& n : cloud.normals) n = jitter_normal(n, 20, rng);
+  for (std::size_t i = 0; i < 300; i += 3) {
+    cloud.positions.push_back(cloud.positions[i]);
+    cloud.normals.push_back(i % 2 == 0 ? cloud.normals[i] : jitter_normal(cloud.normals[i], 10, rng));
+  }
+  std::vector<std::size_t> permutation(cloud.size());
+  for (std::size_t i = 0; i < permutation.size(); ++i) permutation[i] = i;
+  std::shuffle(permutation.begin(), permutation.end(), rng);
+  PointCloud shuffled;
+  for (std::size_t i : permutation) {
+    shuffled.positions.push_back(cloud.positions[i]);
+    shuffled.normals.push_back(cloud.normals[i]);
+  }
+  FilterParams params;
+  params.stop_change_deg = 1e-6;  // the stop rule's sums too
+  const std::vector<Vec3> out = filter->run(cloud, params).normals;
+  const std::vector<Vec3> out_shuffled = filter->run(shuffled, params).normals;
+  for (std::size_t k = 0; k < permutation.size(); ++k) {
+    ASSERT_EQ(out_shuffled[k], out[permutation[k]]) << "row " << k << " (input row " << permutation[k] << ")";
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, NormalFilterTest, ::testing::Values(Backend::reference, Backend::opencl),
                          [](const auto& info) { return std::string(pnf::to_string(info.param)); });
 

@@ -1,6 +1,7 @@
 #include "spatial/spatial_order.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
 #include "pnf/bounding_box.hpp"
@@ -39,7 +40,17 @@ std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p) {
   return key;
 }
 
-std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions) {
+bool canonical_before(const Vec3& a, const Vec3& b) {
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits_a = 0, bits_b = 0;
+    std::memcpy(&bits_a, &a[k], sizeof bits_a);
+    std::memcpy(&bits_b, &b[k], sizeof bits_b);
+    if (bits_a != bits_b) return bits_a < bits_b;
+  }
+  return false;
+}
+
+std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals) {
   const std::size_t n = positions.count;
   const BoundingBox box = bounding_box(positions);
   const MortonFrame frame = morton_frame(box.min, box.max);
@@ -47,7 +58,13 @@ std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions) {
   for (std::size_t i = 0; i < n; ++i) keys[i] = morton_key(frame, positions.at(i));
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (keys[a] != keys[b]) return keys[a] < keys[b];
+    const Vec3 pa = positions.at(a), pb = positions.at(b);
+    if (canonical_before(pa, pb)) return true;
+    if (canonical_before(pb, pa) || normals == nullptr) return false;
+    return canonical_before(normals->at(a), normals->at(b));
+  });
   return order;
 }
 

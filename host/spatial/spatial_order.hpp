@@ -9,9 +9,16 @@
 namespace pnf::detail {
 
 // A permutation of 0..N-1: order[k] is the input index of the k-th point along the Morton
-// (Z-order) curve of the bounding box (pnf::bounding_box), 21 bits per axis; ties keep input
-// order. Deterministic. positions: N by 3, any view.
-std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions);
+// (Z-order) curve of the bounding box (pnf::bounding_box), 21 bits per axis. Points with the same
+// key go in canonical_before's order (then, with `normals`, by the normals' bits; last, input
+// order, which only identical rows still share), so that the order of the points does not depend
+// on the input's row order. positions (and normals): N by 3, any view.
+std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals = nullptr);
+
+// The order between two points of equal Morton key, or two normals of equal points: by the bits
+// of x, then y, then z (as doubles). A distributed run breaks its curve's ties the same way, so
+// that its points keep one process's order whatever rank holds them.
+bool canonical_before(const Vec3& a, const Vec3& b);
 
 // The curve's frame: the lowest corner of the bounding box and cells per model unit. A
 // distributed run (pnf/mpi.hpp) builds it from the global box so that every rank computes the

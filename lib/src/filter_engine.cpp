@@ -278,7 +278,9 @@ void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const F
 PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned) {
   PreparedCloud out;
   out.owned = owned;
-  out.order = morton_order(cloud.positions);
+  // The curve with ties by the positions' and normals' bits: the same order, and so the same
+  // lists, sums and normals, for any row order of the input.
+  out.order = morton_order(cloud.positions, &cloud.normals);
   if (owned < cloud.size()) {
     std::stable_partition(out.order.begin(), out.order.end(), [&](std::uint32_t i) { return i < owned; });
   }

@@ -149,7 +149,8 @@ OwnedPoints distribute(MPI_Comm comm, const CloudView& local, const GlobalFrame&
   for (int q = 0; q < ranks; ++q) {
     std::fill_n(source.begin() + recv_displs[std::size_t(q)], recv_counts[std::size_t(q)], q);
   }
-  // Curve order with ties by global id: the one process's stable sort of input order.
+  // Curve order with ties as one process breaks them (spatial_order.hpp: the positions' bits,
+  // then the normals'), and last by global id, as the one process's stable sort of input order.
   std::vector<std::uint64_t> received_keys(received);
   for (std::size_t i = 0; i < received; ++i) {
     const PointRecord& r = in[i];
@@ -158,7 +159,16 @@ OwnedPoints distribute(MPI_Comm comm, const CloudView& local, const GlobalFrame&
   std::vector<std::uint32_t> order(received);
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return received_keys[a] != received_keys[b] ? received_keys[a] < received_keys[b] : in[a].gid < in[b].gid;
+    if (received_keys[a] != received_keys[b]) return received_keys[a] < received_keys[b];
+    const Vec3 pa{in[a].position[0], in[a].position[1], in[a].position[2]};
+    const Vec3 pb{in[b].position[0], in[b].position[1], in[b].position[2]};
+    if (pnf::detail::canonical_before(pa, pb)) return true;
+    if (pnf::detail::canonical_before(pb, pa)) return false;
+    const Vec3 na{in[a].normal[0], in[a].normal[1], in[a].normal[2]};
+    const Vec3 nb{in[b].normal[0], in[b].normal[1], in[b].normal[2]};
+    if (pnf::detail::canonical_before(na, nb)) return true;
+    if (pnf::detail::canonical_before(nb, na)) return false;
+    return in[a].gid < in[b].gid;
   });
 
   OwnedPoints owned;
