@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "auto/setting_grid.hpp"
+#include "eval_auto_cases.hpp"
 #include "eval_clouds.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/mean_radius.hpp"
@@ -49,158 +50,11 @@ namespace {
 using namespace pnf;
 using namespace pnf::eval;
 
-// The grid is pnf_eval_real's too (lib/src/auto/setting_grid.hpp).
-using pnf::detail::kGridPasses;
-using pnf::detail::kGridSigmaF;
-using pnf::detail::kGridSigmaG;
-// The paper's face-model setting: FilterParams' defaults.
-const FilterParams kPaper{};
 // PCPNet's noise levels, as fractions of the bounding-box diagonal, and its PCA neighbourhood.
 constexpr double kFandiskNoise[] = {0, 0.00125, 0.006, 0.012};
 constexpr int kFandiskPcaNeighbours = 112;
 // The held-out cases' jittered input normals: the true ones tilted by this RMS angle, degrees.
 constexpr double kJitterRmsDeg = 8;
-
-// One evaluated cloud: noisy positions, PCA input normals, truth.
-struct Case {
-  std::string name, family;  // family: "synthetic" or "fandisk"
-  std::string noise_label;
-  int pca_neighbours = 0;
-  PointCloud cloud;
-  std::vector<Vec3> truth;
-  double true_spacing = 0, true_noise = 0;  // model units (synthetic: sqrt(area / N))
-};
-
-struct Setting {
-  double sigma_f = 0, sigma_g = 0;
-  int passes = 0;
-  double rms = 0;
-};
-
-struct Outcome {
-  double input_rms = 0, paper_rms = 0, gaussian_rms = 0, auto_rms = 0;
-  Setting best;
-  std::vector<Setting> grid;
-  AutoChoice choice;
-  int auto_passes = 0;
-  double mean_radius = 0, auto_seconds = 0;
-  double estimate_seconds = 0;  // the estimate and the rule, and the cross-validation where it ran
-};
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-// The grid of case `name` in a JSON file this program wrote (one case a line), or nothing.
-std::vector<Setting> cached_grid(const std::string& path, const std::string& name) {
-  std::ifstream in(path);
-  std::string line;
-  const std::string key = "{\"name\": \"" + name + "\"";
-  while (std::getline(in, line)) {
-    if (line.find(key) == std::string::npos) continue;
-    std::vector<Setting> grid;
-    std::size_t at = line.find("\"grid\": [");
-    if (at == std::string::npos) return grid;
-    at = line.find('[', at) + 1;
-    Setting s;
-    char bracket = 0;
-    std::istringstream items(line.substr(at));
-    while (items >> bracket && bracket == '[') {
-      char comma = 0;
-      items >> s.sigma_f >> comma >> s.sigma_g >> comma >> s.passes >> comma >> s.rms >> bracket >> comma;
-      grid.push_back(s);
-    }
-    return grid;
-  }
-  return {};
-}
-
-// The settings a grid search tries: every sigma_f with every sigma_g, one pass at a time up to the
-// largest of `passes`, scored after each pass listed there.
-struct Grid {
-  std::vector<double> sigma_f, sigma_g;
-  std::vector<int> passes;
-};
-const Grid kFullGrid{{std::begin(kGridSigmaF), std::end(kGridSigmaF)},
-                     {std::begin(kGridSigmaG), std::end(kGridSigmaG)},
-                     {std::begin(kGridPasses), std::end(kGridPasses)}};
-// For the held-out cases above --full-grid-points (400k points: one full grid there costs about
-// 20 times a 20k one): the sigma_g that the tuned cases' optima used (0.25-2 and off), sigma_f at
-// the ends of the full grid, and the passes at 2 and 8 (the full grid's optima on shapes with
-// edges were at 4-8 passes, on smooth curved ones at 1-2).
-const Grid kCoarseGrid{{2, 8}, {0.25, 1, 1e6}, {2, 8}};
-// Gaussian averaging: the paper's sigma_f and passes with the feature term off (sigma_g "off").
-constexpr double kGaussianSigmaG = 1e6;
-
-Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vector<std::string>& grid_files,
-                 const Grid& spec = kFullGrid, bool estimate_only = false) {
-  Outcome o;
-  o.input_rms = rms_line_angle(c.cloud.normals, c.truth);
-  o.mean_radius = estimate_mean_radius(c.cloud.positions);
-  if (estimate_only) {  // the rule's choice and its measurements, no filtering
-    o.choice = choose_filter_params(c.cloud);
-    return o;
-  }
-  o.paper_rms = o.gaussian_rms = -1;
-  // A cached grid serves without --no-grid too: then it holds at least the paper's and the
-  // Gaussian setting of an earlier run, which are not run again.
-  for (const std::string& file : grid_files) {
-    if (!o.grid.empty()) break;
-    o.grid = cached_grid(file, c.name);
-  }
-  auto note = [&](const Setting& s) {
-    if (s.rms < o.best.rms) o.best = s;
-    if (s.sigma_f == kPaper.sigma_f && s.passes == kPaper.iterations) {
-      if (s.sigma_g == kPaper.sigma_g) o.paper_rms = s.rms;
-      if (s.sigma_g == kGaussianSigmaG) o.gaussian_rms = s.rms;
-    }
-  };
-  o.best.rms = 1e9;
-  if (!o.grid.empty()) {
-    for (const Setting& s : o.grid) note(s);
-  } else if (grid) {
-    const int max_passes = *std::max_element(spec.passes.begin(), spec.passes.end());
-    for (double sf : spec.sigma_f) {
-      for (double sg : spec.sigma_g) {
-        PointCloud step = c.cloud;
-        FilterParams params;
-        params.sigma_f = sf;
-        params.sigma_g = sg;
-        params.iterations = 1;
-        params.mean_radius = o.mean_radius;
-        for (int pass = 1; pass <= max_passes; ++pass) {
-          step.normals = filter.run(step, params).normals;
-          if (std::find(spec.passes.begin(), spec.passes.end(), pass) == spec.passes.end()) continue;
-          const Setting s{sf, sg, pass, rms_line_angle(step.normals, c.truth)};
-          o.grid.push_back(s);
-          note(s);
-        }
-      }
-    }
-  }
-  // Outside the grid (or without one): run the two fixed settings themselves. They join the grid
-  // (and the JSON file, so that --grid-from finds them).
-  for (const double sigma_g : {kPaper.sigma_g, kGaussianSigmaG}) {
-    double& rms = sigma_g == kPaper.sigma_g ? o.paper_rms : o.gaussian_rms;
-    if (rms >= 0) continue;
-    FilterParams params = kPaper;
-    params.sigma_g = sigma_g;
-    params.mean_radius = o.mean_radius;
-    rms = rms_line_angle(filter.run(c.cloud, params).normals, c.truth);
-    o.grid.push_back({params.sigma_f, sigma_g, params.iterations, rms});
-    note(o.grid.back());
-  }
-  // The whole --auto run: the choice and its judged passes (improve_normals_auto).
-  auto t = std::chrono::steady_clock::now();
-  std::vector<Vec3> normals(c.cloud.size());
-  const AutoRun run = improve_normals_auto(c.cloud, MutableVec3ArrayView(normals), filter);
-  o.choice = run.choice;
-  o.estimate_seconds = 0;
-  o.auto_seconds = seconds_since(t);
-  o.auto_passes = run.passes_kept;
-  o.auto_rms = rms_line_angle(normals, c.truth);
-  return o;
-}
 
 std::string setting_text(const Setting& s) { return eval::setting_text(s.sigma_f, s.sigma_g, s.passes); }
 
