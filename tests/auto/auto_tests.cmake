@@ -1,5 +1,6 @@
 # Tests of pnf::estimate_data, pnf::choose_filter_params and `pnf filter --auto` / --stop-change:
 # included into the single test executable (the CLI cases skip when PNF_CLI_PATH is empty).
+# auto_params_test: the estimators; choose_filter_params_test: the rule and `pnf filter --auto`;
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
@@ -8,6 +9,7 @@
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/choose_filter_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/independent_errors_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp

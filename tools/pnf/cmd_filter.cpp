@@ -38,9 +38,10 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-// `params` are the ones the run used: the flags' units and radius are applied to a copy.
+// `params` are the ones the run used: the flags' units and radius are applied to a copy. With
+// --auto, `passes_kept` is what the judge kept of the passes run (params.iterations says the same).
 void print_summary(const FilterFlags& f, const FilterParams& params, const FilterSummary& s, double read_s,
-                   double write_s) {
+                   double write_s, int passes_kept = -1) {
   std::fprintf(stderr, "pnf filter: %zu points from %s (read in %.2f s)\n", s.points, f.in.c_str(), read_s);
   if (params.units == Units::radius) {
     std::fprintf(stderr, "  mean radius  %.6g (%s)\n", s.mean_radius, to_string(s.radius_source));
@@ -56,7 +57,12 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, "  passes       %zu:", s.pass_seconds.size());
   for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
   std::fprintf(stderr, " s\n");
-  if (params.stop_change_deg > 0) {
+  if (passes_kept >= 0) {
+    std::fprintf(stderr, "  judged       %d of %d passes kept (%s); mean change per pass:", passes_kept, s.passes_run,
+                 passes_kept == 0 ? "the input normals returned" : "the judge's choice");
+    for (double d : s.mean_change_deg) std::fprintf(stderr, " %.3g", d);
+    std::fprintf(stderr, " deg\n");
+  } else if (params.stop_change_deg > 0) {
     std::fprintf(stderr,
                  "  stop rule    %d of at most %d passes run (%s below %g deg); mean change per pass:", s.passes_run,
                  params.iterations, s.passes_run < params.iterations ? "stopped when the change fell" : "never fell",
@@ -107,6 +113,7 @@ int run_filter(const FilterFlags& flags) {
     const PointCloud cloud = file.cloud();
     NormalFilter filter(o.options);
     FilterResult result;
+    int passes_kept = -1;
     if (o.automatic) {
       const auto t_auto = std::chrono::steady_clock::now();
       // The rule's choice, then its passes, each judged against the surface fitted to the
@@ -115,6 +122,7 @@ int run_filter(const FilterFlags& flags) {
       AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(result.normals), filter, progress_bar(flags.quiet),
                                          o.stop_change_deg);
       params = run.choice.params;
+      passes_kept = run.passes_kept;
       result.summary = run.summary;
       // The run was handed the estimate's mean radius; say where that came from, not "given".
       result.summary.radius_source = run.choice.estimate.radius_source;
@@ -127,7 +135,7 @@ int run_filter(const FilterFlags& flags) {
     file.set_normals(result.normals);
     write_point_file(flags.out, file, o.write);
     if (!flags.quiet) {
-      print_summary(flags, params, result.summary, read_s, seconds_since(t));
+      print_summary(flags, params, result.summary, read_s, seconds_since(t), passes_kept);
       if (file.without_normals() > 0) {
         std::fprintf(stderr, "  kept         %zu points without normals (NaN) as they were\n", file.without_normals());
       }
