@@ -51,9 +51,7 @@ struct Part {
 };
 
 TEST(FilterEngineParts, TwoPartsInTwoThreadsEqualOnePart) {
-  PointCloud cloud = pnf::test::sphere(3000, 5.0, 3);
-  std::mt19937 rng(4);
-  for (Vec3& n : cloud.normals) n = pnf::test::jitter_normal(n, 20, rng);
+  PointCloud cloud = pnf::test::jittered_sphere(3000, 5.0, 3, 20);
   FilterParams params;
   params.iterations = 3;
   params.stop_change_deg = 1e-6;  // the stop rule's sums go through sum_over_processes

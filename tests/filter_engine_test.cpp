@@ -66,10 +66,7 @@ pnf::FilterResult run_engine(FilterBackend& backend, const pnf::FilterOptions& o
 }
 
 pnf::PointCloud noisy_sphere(int n, unsigned seed) {
-  pnf::PointCloud ball = sphere(n, 5.0, seed);
-  std::mt19937 rng(seed + 1);
-  for (pnf::Vec3& v : ball.normals) v = jitter_normal(v, 20, rng);
-  return ball;
+  return jittered_sphere(n, 5.0, seed, 20);
 }
 
 TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {

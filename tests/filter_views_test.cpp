@@ -19,9 +19,7 @@ using namespace pnf::test;
 // A sphere whose coordinates and normals are exactly representable in float, so that float
 // views hold the same values as the PointCloud.
 PointCloud float_exact_sphere() {
-  PointCloud ball = sphere(3000, 5.0, 31);
-  std::mt19937 rng(32);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 15, rng);
+  PointCloud ball = jittered_sphere(3000, 5.0, 31, 15);
   for (std::vector<Vec3>* values : {&ball.positions, &ball.normals}) {
     for (Vec3& v : *values) {
       for (double& c : v) c = double(float(c));

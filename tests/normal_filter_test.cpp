@@ -111,9 +111,7 @@ TEST_P(NormalFilterTest, WedgeEdgeStaysFarSharperThanGaussianAveraging) {
 TEST_P(NormalFilterTest, NoNormalIsFlippedAndPositionsAreUntouched) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
   PNF_SKIP_IF_NULL(filter);
-  PointCloud ball = sphere(3000, 5.0, 7);
-  std::mt19937 rng(8);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 40, rng);
+  PointCloud ball = jittered_sphere(3000, 5.0, 7, 40);
   const PointCloud before = ball;
   std::vector<Vec3> out = filter->run(ball, FilterParams{}).normals;
   ASSERT_EQ(out.size(), ball.size());
@@ -127,9 +125,7 @@ TEST_P(NormalFilterTest, NoNormalIsFlippedAndPositionsAreUntouched) {
 TEST_P(NormalFilterTest, TranslationByAMillionChangesNoNormal) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
   PNF_SKIP_IF_NULL(filter);
-  PointCloud ball = sphere(3000, 5.0, 9);
-  std::mt19937 rng(10);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 15, rng);
+  PointCloud ball = jittered_sphere(3000, 5.0, 9, 15);
   PointCloud moved = ball;
   for (Vec3& p : moved.positions)
     for (double& v : p) v += 1e6;
@@ -140,9 +136,7 @@ TEST_P(NormalFilterTest, TranslationByAMillionChangesNoNormal) {
 TEST_P(NormalFilterTest, RotatingTheInputRotatesTheOutput) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
   PNF_SKIP_IF_NULL(filter);
-  PointCloud ball = sphere(2000, 5.0, 11);
-  std::mt19937 rng(12);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 15, rng);
+  PointCloud ball = jittered_sphere(2000, 5.0, 11, 15);
   const double a = 0.7, c = std::cos(a), s = std::sin(a);
   auto rotate = [&](const Vec3& v) { return Vec3{c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]}; };
   PointCloud turned = ball;
@@ -160,9 +154,7 @@ TEST_P(NormalFilterTest, ChunkedEqualsWhole) {
     std::string why;
     if (!pnf::test::opencl_filter(why)) PNF_OPENCL_OR_SKIP(why);
   }
-  PointCloud ball = sphere(4000, 5.0, 13);
-  std::mt19937 rng(14);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 20, rng);
+  PointCloud ball = jittered_sphere(4000, 5.0, 13, 20);
   pnf::FilterOptions whole_options{GetParam() == Backend::reference ? pnf::Device::reference() : pnf::Device::opencl()};
   pnf::FilterOptions chunked_options = whole_options;
   chunked_options.memory.budget_bytes = 200 * 1024;  // a tenth or so of this cloud's lists
@@ -193,9 +185,7 @@ TEST_P(NormalFilterTest, ZeroIterationsReturnTheInputNormals) {
 TEST_P(NormalFilterTest, NonUnitNormalsActLikeTheirDirections) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
   PNF_SKIP_IF_NULL(filter);
-  PointCloud ball = sphere(1500, 2.0, 16);
-  std::mt19937 rng(17);
-  for (Vec3& n : ball.normals) n = jitter_normal(n, 15, rng);
+  PointCloud ball = jittered_sphere(1500, 2.0, 16, 15);
   PointCloud scaled = ball;
   for (std::size_t i = 0; i < scaled.size(); ++i)
     for (double& v : scaled.normals[i]) v *= 1.0 + double(i % 7);
@@ -357,9 +347,8 @@ TEST_P(NormalFilterTest, DegenerateCloudsFollowSpec) {
 TEST_P(NormalFilterTest, PermutedRowsGiveThePermutedNormals) {
   NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
   PNF_SKIP_IF_NULL(filter);
-  PointCloud cloud = sphere(3000, 5.0, 31);
-  std::mt19937 rng(32);
-  for (Vec3& n : cloud.normals) n = jitter_normal(n, 20, rng);
+  PointCloud cloud = jittered_sphere(3000, 5.0, 31, 20);
+  std::mt19937 rng(33);
   for (std::size_t i = 0; i < 300; i += 3) {
     cloud.positions.push_back(cloud.positions[i]);
     cloud.normals.push_back(i % 2 == 0 ? cloud.normals[i] : jitter_normal(cloud.normals[i], 10, rng));

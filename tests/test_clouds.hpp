@@ -96,6 +96,15 @@ inline PointCloud sphere(int points, double radius, unsigned seed) {
   return c;
 }
 
+// sphere(points, radius, seed) with each normal tilted at random by jitter_normal(n, degrees)
+// (its own generator, seeded seed + 1).
+inline PointCloud jittered_sphere(int points, double radius, unsigned seed, double degrees) {
+  PointCloud c = sphere(points, radius, seed);
+  std::mt19937 rng(seed + 1);
+  for (Vec3& n : c.normals) n = jitter_normal(n, degrees, rng);
+  return c;
+}
+
 // The folder of the team's shared test models, or "" when it is absent.
 inline std::string shared_data_dir() {
   if (const char* env = std::getenv("PNF_SHARED_DATA")) return env;
