@@ -30,7 +30,7 @@ class ClRuntime {
   ClRuntime(ClRuntime&&) = default;
   ClRuntime& operator=(ClRuntime&&) = default;
 
-  // Picks the device with `selector` (SPEC syntax; empty: PNF_DEVICE, then the default rule).
+  // Picks the device with `selector` (docs/method.md, "Devices"; empty: PNF_DEVICE, then the default rule).
   // Throws pnf::Error(device) listing every device found when nothing matches.
   explicit ClRuntime(const std::string& selector);
 

@@ -1,4 +1,4 @@
-// Picks an OpenCL device from a selector string (SPEC, "Devices").
+// Picks an OpenCL device from a selector string (docs/method.md, "Devices").
 #pragma once
 
 #include <string>

@@ -70,11 +70,11 @@ PNF_FN pnf_lane pnf_lane_keep_ge(pnf_lane v, pnf_lane a, pnf_lane lo) { return a
 PNF_FN pnf_lane pnf_lane_load(const pnf_real* a) { return a[0]; }
 #endif
 
-/* The spatial weight f is truncated at this many sigma_f: neighbours reach 2 sigma_f (SPEC). */
+/* The spatial weight f is truncated at this many sigma_f: neighbours reach 2 sigma_f (docs/method.md, "Reach"). */
 #define PNF_SUPPORT_IN_SIGMA_F 2
 
 /* A weight whose exponent is below this is cut to zero, on every device and in the reference
- * (SPEC, "Numerics": denormals must not set the speed). exp(-64) = 1.6e-28: far from float's
+ * (docs/method.md, "The weight cut": denormals must not set the speed). exp(-64) = 1.6e-28: far from float's
  * denormal range (below 1.2e-38), with ten decades of headroom so that the weight's products in
  * the sums (w h, w d, ...) stay normal floats too, and so small next to the self weight 1 that
  * even 1000 such neighbours (1.6e-25 relative) are below double's rounding: the cut does not
@@ -87,13 +87,13 @@ PNF_FN pnf_lane pnf_lane_load(const pnf_real* a) { return a[0]; }
 #define PNF_WEIGHT_CUT_EXPONENT -64
 #endif
 
-/* |C n| below this fraction of |J|_F^2 means J is degenerate, and the input normal is kept (SPEC,
+/* |C n| below this fraction of |J|_F^2 means J is degenerate, and the input normal is kept (docs/method.md,
  * "The normal update"). |J|_F^2 is the scale C's entries are computed at (each is a difference
  * of products of two entries of J), so it also sets their rounding: for a rank-1 J, whose C is 0
  * exactly, the computed C is that rounding, and |C| itself is no scale to compare with. J comes
  * from sums over up to ~1000 neighbours, about 1e-6 relative error in float and 1e-14 in double;
  * each threshold sits 100x above its type's error and far below a plane's 0.5 (J = I - n n^T,
- * C n = n). The threshold follows the scalar type: SPEC's 1e-12 is below float's rounding. */
+ * C n = n). The threshold follows the scalar type: double's 1e-12 is below float's rounding. */
 #ifdef __OPENCL_VERSION__
 #define PNF_DEGENERATE_RELATIVE 1e-4f
 #else
@@ -115,7 +115,7 @@ typedef struct {
 } pnf_dvec3;
 
 /* The Gaussian widths as the exponent coefficients 1 / (2 sigma^2), in model units^-2.
- * w = exp(-(|p - x|^2 * f + ((p - x).n)^2 * g)): the two Gaussians of SPEC share one exp. */
+ * w = exp(-(|p - x|^2 * f + ((p - x).n)^2 * g)): the two Gaussians of docs/method.md share one exp. */
 typedef struct {
   pnf_real inv_two_sigma_f2;
   pnf_real inv_two_sigma_g2;

@@ -1,5 +1,5 @@
 /* pnf_filter.h: the per-point normal filter of Jones, Durand and Zwicker (2004), as pinned down
- * by SPEC.md. Shared verbatim by the OpenCL kernel (float, PNF_LANES neighbours a step) and the
+ * by docs/method.md. Shared verbatim by the OpenCL kernel (float, PNF_LANES neighbours a step) and the
  * CPU reference (double, one lane): the neighbour loop below is the same code for both.
  *
  *   Pi_p(x) = x + ((p - x).n_p) n_p
@@ -196,7 +196,7 @@ PNF_FN pnf_dvec3 pnf_eval_F(pnf_vec3 x_local, pnf_index s, PNF_GLOBAL const pnf_
 /* Column k of J = dF/dx. */
 PNF_FN pnf_vec3 pnf_jacobian_column(pnf_dvec3 f, int k) { return pnf_make_vec3(f.x.d[k], f.y.d[k], f.z.d[k]); }
 
-/* n' = C n_s / |C n_s| with SPEC's orientation and degenerate rules. *kept is set to 1 when J is
+/* n' = C n_s / |C n_s| with the flip and degenerate rules of docs/method.md. *kept is set to 1 when J is
  * degenerate and n_s is returned unchanged, to 0 otherwise. */
 PNF_FN pnf_vec3 pnf_update_normal(pnf_dvec3 f, pnf_vec3 n_s, int* kept) {
   pnf_vec3 j0 = pnf_jacobian_column(f, 0);

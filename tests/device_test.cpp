@@ -40,7 +40,7 @@ TEST(DeviceSelect, SelectorsFollowSpec) {
   EXPECT_EQ(choose_device(devices, "GPU"), 1);
   EXPECT_EQ(choose_device(devices, "accelerator"), 3);
   EXPECT_EQ(choose_device(devices, "1:1"), 2);
-  EXPECT_EQ(choose_device(devices, "pocl"), 0);  // SPEC's example: found through the platform vendor
+  EXPECT_EQ(choose_device(devices, "pocl"), 0);  // docs/method.md's example: found through the platform vendor
   EXPECT_EQ(choose_device(devices, "portable"), 0);
   EXPECT_EQ(choose_device(devices, "h200"), 2);
   EXPECT_EQ(choose_device(devices, "nvidia"), 1);

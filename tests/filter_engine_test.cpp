@@ -198,7 +198,7 @@ TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {
 
 TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
   // A line has no surface normal to converge to, so there is no exact answer to expect; what
-  // must hold is what SPEC promises of any input: unit, finite, never flipped, no crash.
+  // must hold is what docs/method.md promises of any input: unit, finite, never flipped, no crash.
   pnf::PointCloud line;
   std::mt19937 rng(4);
   for (int i = 0; i < 400; ++i) {

@@ -1,4 +1,4 @@
-// OpenCL on the selected device against the double-precision reference, to SPEC's tolerance:
+// OpenCL on the selected device against the double-precision reference, to the tolerance of docs/method.md:
 // after 4 passes, 0.01 degrees on 99.9% of points and 0.1 degrees on every point. Every case runs
 // at each kernel lane width a device type gets (1 on GPUs; 4, 8 or 16 on CPUs), and the 16-lane
 // kernel also with its other gather (across the 128-bit halves, kept to measure it), selected
@@ -24,7 +24,7 @@ using namespace pnf::test;
 using pnf::PointCloud;
 using pnf::Vec3;
 
-constexpr double kMostPointsDeg = 0.01;  // SPEC, "Numerics"
+constexpr double kMostPointsDeg = 0.01;  // docs/method.md, "Float and double"
 constexpr double kMostPointsShare = 0.999;
 constexpr double kEveryPointDeg = 0.1;
 
@@ -74,7 +74,7 @@ void expect_parity(const PointCloud& cloud, const pnf::FilterParams& params, con
   pnf::FilterResult result;
   result.normals.resize(cloud.size());
   result.summary = pnf::detail::run_filter(*opencl, pnf::FilterOptions{}, cloud, result.normals, params, {});
-  // SPEC's degenerate rule is an exception path; these shapes never reach it.
+  // The degenerate rule of docs/method.md is an exception path; these shapes never reach it.
   EXPECT_EQ(result.summary.degenerate_kept, 0u) << name;
   const std::vector<Vec3>& device = result.normals;
   const std::vector<Vec3>& reference = reference_normals(cloud, params, case_name);

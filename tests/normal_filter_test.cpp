@@ -1,4 +1,4 @@
-// The filter's behaviour on both backends: the paper's sidebar cases, SPEC's invariants, and
+// The filter's behaviour on both backends: the paper's sidebar cases, the invariants of docs/method.md, and
 // bad input. Expected values come from the known geometry, never from a previous run.
 #include "pnf/normal_filter.hpp"
 
@@ -145,7 +145,7 @@ TEST_P(NormalFilterTest, RotatingTheInputRotatesTheOutput) {
     turned.normals[i] = rotate(ball.normals[i]);
   }
   std::vector<Vec3> out = filter->run(ball).normals, out_turned = filter->run(turned).normals;
-  // float32 kernels see rotated coordinates rounded differently; 0.01 deg is SPEC's parity bar.
+  // float32 kernels see rotated coordinates rounded differently; 0.01 deg is the parity bar of docs/method.md.
   for (std::size_t i = 0; i < out.size(); ++i) EXPECT_LE(angle_deg(rotate(out[i]), out_turned[i]), 0.01) << i;
 }
 
@@ -269,7 +269,7 @@ TEST_P(NormalFilterTest, RadiusPropertyAndGivenRadiusSetTheScale) {
   EXPECT_GT(r.summary.neighbours_max, 150u);
 }
 
-// Bad input: SPEC's result or a clear error that names the vertex.
+// Bad input: docs/method.md's result or a clear error that names the vertex.
 std::string run_error(NormalFilter& filter, const PointCloud& cloud, const FilterParams& params = {}) {
   try {
     filter.run(cloud, params);

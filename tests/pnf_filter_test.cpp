@@ -100,7 +100,7 @@ TEST(PnfFilter, FMatchesBruteForceEvaluation) {
   const double* P = cloud.positions.data();
   const double* N = cloud.normals.data();
   for (int s = 0; s < 300; s += 11) {
-    // Independent: SPEC's formulas written out with two separate exponentials and a brute-force
+    // Independent: the formulas of docs/method.md written out with two separate exponentials and a brute-force
     // neighbour set, at a query point x off the sample itself.
     const double x[3] = {P[3 * s] + 0.01, P[3 * s + 1] - 0.02, P[3 * s + 2] + 0.005};
     double sum_w = 0, sum_wp[3] = {0, 0, 0};

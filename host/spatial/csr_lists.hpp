@@ -1,4 +1,4 @@
-// The neighbour lists of the filter in CSR form (SPEC, "Neighbour lists"), and the k-nearest
+// The neighbour lists of the filter in CSR form (docs/method.md, "Neighbour lists"), and the k-nearest
 // table of estimate_normals: the two shapes SpatialIndex answers in.
 #pragma once
 

@@ -119,7 +119,7 @@ class SpatialIndex {
   // unless k duplicates of it exist), ascending. Needs 1 <= k <= N. One thread.
   std::vector<double> nearest_squared_distances(std::size_t point, int k) const;
 
-  // ---- fixed radius (SPEC's neighbourhood |p - s| <= radius, inclusive) ----
+  // ---- fixed radius (docs/method.md, "Reach": |p - s| <= radius, inclusive) ----
 
   // For every point, how many points lie within `radius` of it, the point itself included.
   // Allocates only the N counts.

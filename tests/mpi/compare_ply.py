@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compares two binary_little_endian PLY files as the distributed filter promises (SPEC,
+"""Compares two binary_little_endian PLY files as the distributed filter promises (docs/method.md,
 "Distributed runs (MPI)"): every byte equal except the vertex normals, and each normal within
 TOLERANCE degrees. Usage: compare_ply.py EXPECTED ACTUAL [TOLERANCE_DEG]. Prints the largest
 angle; exits 1 on any difference."""

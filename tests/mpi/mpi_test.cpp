@@ -25,7 +25,7 @@ namespace {
 using namespace pnf;
 using pnf::test::angle_deg;
 
-// SPEC, "Distributed runs (MPI)": the one-process result within 1e-3 degrees per normal.
+// docs/method.md, "Distributed runs (MPI)": the one-process result within 1e-3 degrees per normal.
 constexpr double kToleranceDeg = 1e-3;
 
 int rank() {

@@ -62,7 +62,7 @@ struct DeviceInfo {
 inline constexpr const char* kDeviceEnvironmentVariable = "PNF_DEVICE";
 
 // Every device of every OpenCL platform, in platform then device order, with `selected` set on
-// the one that `selector` picks (read as Device::parse reads it; "reference" selects none). Selector syntax (SPEC, "Devices"): "cpu", "gpu", "accelerator",
+// the one that `selector` picks (read as Device::parse reads it; "reference" selects none). Selector syntax (docs/method.md, "Devices"): "cpu", "gpu", "accelerator",
 // "P:D" (platform and device index), or a case-insensitive piece of the platform or device name
 // or vendor (so "pocl" finds PoCL, whose platform is named "Portable Computing Language").
 // An empty selector means the PNF_DEVICE variable, and if that is unset or empty: the first GPU,

@@ -1,4 +1,4 @@
-// pnf::FilterParams — the parameters of the normal filter (SPEC, "Parameters and units").
+// pnf::FilterParams — the parameters of the normal filter (docs/method.md, "Parameters and units").
 #pragma once
 
 namespace pnf {

@@ -20,7 +20,7 @@ namespace pnf {
 //
 // Measured (40,000 points in a plane, mean of 5 seeds; tests/mean_radius_test.cpp holds these):
 // on a square grid of spacing h jittered uniformly in the plane by up to ±0.1 h per axis 1.00 h,
-// ±0.25 h 1.00 h, ±0.5 h 0.94 h (SPEC asks for within 25% of h); on uniform random samples of
+// ±0.25 h 1.00 h, ±0.5 h 0.94 h (docs/method.md asks for within 25% of h); on uniform random samples of
 // density 1 / h² (the square root of the area per point is h) 0.80 h. So on scans and random
 // samples the mean radius is about 0.8 of the "area spacing" that --auto measures.
 //

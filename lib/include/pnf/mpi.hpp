@@ -3,7 +3,7 @@
 //
 // Each rank passes the points it holds, in any partition (some ranks may hold none); each gets
 // back the new normals of exactly those points, in their order. The result is the one-process
-// result of NormalFilter::run on the concatenation of every rank's points in rank order (SPEC,
+// result of NormalFilter::run on the concatenation of every rank's points in rank order (docs/method.md,
 // "Distributed runs (MPI)"), within 1e-3 degrees per normal. Inside: the points move once to a
 // spatially compact owner (Morton ranges of the global bounding box, balanced by points); each
 // owner receives once the points within 2 sigma_f of its own (its halo), builds lists for its

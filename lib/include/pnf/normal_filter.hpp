@@ -81,7 +81,7 @@ struct FilterSummary {
   std::vector<double> pass_seconds;     // wall time of each pass
   std::vector<double> kernel_seconds;   // device time of each pass (OpenCL event profiling)
   int passes_run = 0;                   // < iterations when the stop rule ended the run early
-  std::size_t degenerate_kept = 0;      // normals kept because J was degenerate (SPEC), summed over passes
+  std::size_t degenerate_kept = 0;      // normals kept because J was degenerate (docs/method.md), summed over passes
   std::vector<double> mean_change_deg;  // per pass, with the stop rule: mean angle to the previous pass
 };
 
@@ -108,7 +108,7 @@ class NormalFilter {
   NormalFilter& operator=(NormalFilter&&) noexcept;
 
   // Improves the normals of `cloud` (N positions and N oriented normals, optional N radii; float
-  // or double, any stride, read in place) as SPEC defines: `params.iterations` Jacobi passes of
+  // or double, any stride, read in place) as docs/method.md defines: `params.iterations` Jacobi passes of
   // n' = C n / |C n|, C = adj(dF/dx)^T, never flipping a normal to the other side, and writes the
   // N new unit normals into `normals_out` (N rows; it may be the cloud's own normals view: the
   // input normals are read before anything is written). Positions are not changed. Non-unit
