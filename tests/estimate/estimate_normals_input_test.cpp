@@ -55,7 +55,7 @@ TEST(EstimateNormals, DuplicatedPointsAreHandled) {
 }
 
 TEST(EstimateNormals, TranslationChangesNothingBeyondRounding) {
-  // SPEC's bar for the filter: a 1e6 shift in x, y and z moves no normal by more than 0.01°.
+  // docs/method.md's bar for the filter: a 1e6 shift in x, y and z moves no normal by more than 0.01°.
   constexpr double kShift = 1e6;
   constexpr double kMaxChangeDegrees = 0.01;
   const Sample sphere = noisy_sphere(2000, 10);
