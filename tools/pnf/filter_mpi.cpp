@@ -29,9 +29,13 @@ void print_summary(const std::string& in, const std::string& out, const mpi::Fil
   std::fprintf(stderr, "  device       %s [%s] (rank 0)\n", l.device.c_str(), l.backend.c_str());
   std::fprintf(stderr, "  setup        partition %.3f s, radius %.3f s, halo %.3f s\n", s.partition_seconds,
                s.radius_seconds, s.halo_seconds);
-  std::fprintf(stderr, "  passes       %zu (slowest rank):", s.pass_seconds.size());
-  for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
-  std::fprintf(stderr, " s\n");
+  if (s.pass_seconds.empty()) {
+    std::fprintf(stderr, "  passes       none\n");
+  } else {
+    std::fprintf(stderr, "  passes       %zu (slowest rank):", s.pass_seconds.size());
+    for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
+    std::fprintf(stderr, " s\n");
+  }
   if (!automatic && run.params.stop_change_deg > 0 && !l.mean_change_deg.empty()) {
     std::fprintf(stderr, "  stop rule    %zu of at most %d passes run (below %g deg); mean change per pass:",
                  s.pass_seconds.size(), run.params.iterations, run.params.stop_change_deg);
