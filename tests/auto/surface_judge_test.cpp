@@ -72,6 +72,51 @@ TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
   EXPECT_GT(pca_score, 0.5 * rms_line_angle(pca, c.truth));
 }
 
+// Ripples z = a sin(k x) sin(k y) of wavelength 0.4, the whole neighbourhood (radius about 0.09)
+// spanning nearly half of one: a quadric over all of it cannot follow them, one over its nearest
+// quarter can. The judge scores with the quarter there, and its score of the true normals falls.
+TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
+  PointCloud ripples = jittered_grid(100, 0.01, 0.3, 7);
+  const double a = 0.01, k = 2 * kPi / 0.4;
+  for (std::size_t i = 0; i < ripples.size(); ++i) {
+    Vec3& p = ripples.positions[i];
+    p[2] = a * std::sin(k * p[0]) * std::sin(k * p[1]);
+    ripples.normals[i] = normalized(
+        {-a * k * std::cos(k * p[0]) * std::sin(k * p[1]), -a * k * std::sin(k * p[0]) * std::cos(k * p[1]), 1});
+  }
+  detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
+  const std::vector<double> truth = rows(ripples.normals);
+  const double whole = judge.rms_deg(truth.data());
+  judge.choose_scale(truth.data());
+  EXPECT_EQ(judge.scored(), 64);
+  EXPECT_LT(judge.rms_deg(truth.data()), 0.5 * whole);
+}
+
+// On a plane with noise of 0.3 spacings normal to it, the whole neighbourhood averages the noise
+// better: the judge keeps it.
+TEST(SurfaceJudge, ScoresNoisyPositionsWithTheWholeNeighbourhood) {
+  PointCloud plane = jittered_grid(100, 0.01, 0.3, 8);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0, 0.003);
+  for (Vec3& p : plane.positions) p[2] = noise(rng);
+  detail::SurfaceJudge judge = judge_of(plane.positions, 257, std::hypot(0.15 * 0.01, 2 * 0.003));
+  const std::vector<double> truth = rows(plane.normals);
+  judge.choose_scale(truth.data());
+  EXPECT_EQ(judge.scored(), 257);
+}
+
+// The quarter may score only where the positions are as clean as the fits' floor (twice the noise
+// under 0.15 spacings): there its fits hold no noise that filtered normals could share.
+TEST(SurfaceJudge, QuarterOnlyOnCleanPositions) {
+  DataEstimate e;
+  e.area_spacing = 1;
+  e.fit_neighbours = 64;
+  e.position_noise = 0.05;
+  EXPECT_TRUE(detail::judge_geometry(e).quarter_allowed);
+  e.position_noise = 0.1;
+  EXPECT_FALSE(detail::judge_geometry(e).quarter_allowed);
+}
+
 TEST(ImproveNormalsAuto, KeepsNormalsThatAlreadyFollowTheSurface) {
   // A clean sphere with its exact normals: every pass can only move them off; the input is kept.
   const PointCloud s = sphere(20000, 1.0, 4);

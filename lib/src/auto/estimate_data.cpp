@@ -437,11 +437,12 @@ detail::JudgeGeometry detail::judge_geometry(const DataEstimate& estimate) {
   // 64: the plane at 0.25 spacings of noise kept its input, 1.20 deg, where one scale up passed
   // 0.22), and one scale up the weights still keep the fit on one sheet. As many samples as
   // estimate_data fits at one scale; a width that holds a sheet's own points: the clean floor's
-  // residual (the quadric's third-order terms) and the residual an edge fit is told by
-  // (kEdgeResidualPerNoise times the noise), in quadrature.
+  // residual (the quadric's third-order terms) and the one an edge fit is told by, in quadrature.
   g.neighbours = std::min(kScaleStep * estimate.fit_neighbours, kScales[std::size(kScales) - 1]) + 1;  // the sample too
   g.samples = std::min(kMaxSamples, kMaxLookupsPerScale / std::size_t(std::max(g.neighbours, 1)));
-  g.width = std::hypot(kResidualFloorPerSpacing * estimate.area_spacing, kEdgeResidualPerNoise * estimate.position_noise);
+  const double floor = kResidualFloorPerSpacing * estimate.area_spacing;
+  g.width = std::hypot(floor, kEdgeResidualPerNoise * estimate.position_noise);
+  g.quarter_allowed = kEdgeResidualPerNoise * estimate.position_noise <= floor;
   return g;
 }
 

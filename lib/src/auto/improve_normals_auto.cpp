@@ -47,9 +47,11 @@ double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
   return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
 }
 
-std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples) {
-  return "judged against the surface fitted to the positions at " + std::to_string(samples) +
-         " points (its own error " + number(own_error_deg) + " deg), RMS deg from the input (" +
+std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples,
+                                   int fit_points) {
+  return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
+         std::to_string(fit_points) + " points, its own error " + number(own_error_deg) +
+         " deg), RMS deg from the input (" +
          number(input_rms_deg) + ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
 }
 
@@ -98,12 +100,13 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
   // A copy: normals_out may be the cloud's own normals.
   std::vector<double> best = unit_rows(cloud.normals);
+  if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(best.data());
   const double input_rms = judge.rms_deg(best.data());
   const double own_error = judge.own_error_deg(best.data());
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::size_t best_candidate = 0;
-  std::string judged = detail::judged_heading(input_rms, own_error, judge.size());
+  std::string judged = detail::judged_heading(input_rms, own_error, judge.size(), judge.scored());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.

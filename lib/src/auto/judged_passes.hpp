@@ -42,7 +42,7 @@ double rms_to_beat(double input_rms_deg, double own_error_deg);
 
 // AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
 // the outcome.
-std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples);
+std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points);
 std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
 std::string judged_outcome(std::size_t best_candidate, int passes_kept);
 

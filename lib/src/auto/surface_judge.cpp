@@ -88,6 +88,7 @@ SurfaceJudge::SurfaceJudge(const SpatialIndex& index, std::size_t samples, int n
   const std::vector<double>& centred = index.positions();
   const std::size_t points = centred.size() / 3, count = std::min(among, points);
   neighbours_ = int(std::min<std::size_t>(std::size_t(std::max(neighbours, 0)), points));
+  scored_ = neighbours_;
   samples = std::min(samples, count);
   if (samples == 0 || neighbours_ < kMinNeighbours || !(width > 0)) return;
   ids_.resize(samples);
@@ -120,15 +121,15 @@ SurfaceJudge::Sums SurfaceJudge::sums(const double* normals_xyz) const {
   if (empty()) return sums;
   double squared = 0, variance = 0, inner_variance = 0;
   const std::size_t k = std::size_t(neighbours_);
-  // The next scale down: a quarter of the neighbours, the nearest.
-  const int inner = neighbours_ / 4;
+  // The next scale down: a quarter of the scored neighbours, the nearest.
+  const int inner = scored_ / 4;
   std::vector<double> apart(ids_.size(), 0.0);
 #pragma omp parallel for reduction(+ : squared, variance, inner_variance) schedule(dynamic, 16)
   for (long long s = 0; s < static_cast<long long>(ids_.size()); ++s) {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
     const double* offsets = &offsets_[std::size_t(s) * k * 3];
-    const FrameError e = error_in_frame(offsets, neighbours_, n, width_);
+    const FrameError e = error_in_frame(offsets, scored_, n, width_);
     squared += e.angle * e.angle;
     variance += e.variance;
     if (inner >= kMinNeighbours) {
@@ -159,7 +160,7 @@ double SurfaceJudge::sum_squared(const double* normals_xyz) const {
   for (long long s = 0; s < static_cast<long long>(ids_.size()); ++s) {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
-    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], neighbours_, n, width_).angle;
+    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], scored_, n, width_).angle;
     squared += a * a;
   }
   return squared;
@@ -174,6 +175,26 @@ double SurfaceJudge::Sums::own_error_squared() const {
   // The fits' noise, and what of the two scales' disagreement their noise does not explain: the
   // bias of detail finer than the neighbourhood, or of a sheet the weights lost.
   return variance + std::max(disagreement - variance - inner_variance, 0.0);
+}
+
+std::vector<int> SurfaceJudge::scales_of(int neighbours) {
+  // The quarter's own next scale down, a sixteenth, must hold a fit for its own error.
+  if (neighbours / 16 < kMinNeighbours) return {neighbours};
+  return {neighbours, neighbours / 4};
+}
+
+bool SurfaceJudge::quarter_is_better(const Sums& whole, const Sums& quarter) {
+  return quarter.own_error_squared() < whole.own_error_squared();
+}
+
+void SurfaceJudge::choose_scale(const double* normals_xyz) {
+  if (empty()) return;
+  const std::vector<int> candidates = scales_of(neighbours_);
+  if (candidates.size() < 2) return;
+  score_with(candidates[0]);
+  const Sums whole = sums(normals_xyz);
+  score_with(candidates[1]);
+  if (!quarter_is_better(whole, sums(normals_xyz))) score_with(candidates[0]);
 }
 
 double SurfaceJudge::own_error_deg(const double* normals_xyz) const {

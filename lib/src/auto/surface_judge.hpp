@@ -3,10 +3,11 @@
 // frame of the normal being judged, by iteratively reweighted least squares with a narrow
 // Gaussian weight on the residual: the fit locks onto the sheet of points that passes nearest
 // that normal's tangent plane (one face at a sharp edge, the whole neighbourhood on a smooth
-// surface) and its slope at the sample is the normal's error there. The input normals play no
-// part in the fit, so a normal that follows the positions' surface scores low, a blurred one at
-// an edge or a tilted one on a smooth face scores high. --auto runs its setting pass by pass and
-// keeps the pass (0: the input) that scores lowest (docs/auto.md).
+// surface) and its slope at the sample is the normal's error there, at the scale (the whole
+// neighbourhood or its nearest quarter) where the judge's own error is the smaller. The input
+// normals play no part in the fit, so a normal that follows the positions' surface scores low, a
+// blurred one at an edge or a tilted one on a smooth face scores high. --auto runs its setting
+// pass by pass and keeps the pass (0: the input) that scores lowest (docs/auto.md).
 #pragma once
 
 #include <cstddef>
@@ -34,6 +35,18 @@ class SurfaceJudge {
   bool empty() const { return ids_.empty(); }
   std::size_t size() const { return ids_.size(); }
   int neighbours() const { return neighbours_; }
+  // The points of the fits that score (the nearest of each neighbourhood): all `neighbours` at
+  // first; choose_scale may take the nearest quarter instead.
+  int scored() const { return scored_; }
+  // Scores at the scale, of the two (all the neighbours, or their nearest quarter), whose own
+  // error (own_error_deg) is the smaller in the frames of `normals_xyz`: the larger one averages
+  // noise better, the smaller one follows detail finer than the larger one's neighbourhood. A
+  // distributed run decides on the ranks' added Sums instead: scales_of(), score_with() and
+  // quarter_is_better().
+  void choose_scale(const double* normals_xyz);
+  // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
+  static std::vector<int> scales_of(int neighbours);
+  void score_with(int points) { scored_ = points < neighbours_ ? points : neighbours_; }
   // The RMS over the samples of the angle (degrees) between each sample's normal in `normals_xyz`
   // (N by 3, the cloud's order) and the normal of the surface fitted in its frame.
   double rms_deg(const double* normals_xyz) const;
@@ -52,11 +65,12 @@ class SurfaceJudge {
     double own_error_squared() const;         // summed over the samples: see own_error_deg
   };
   Sums sums(const double* normals_xyz) const;
+  static bool quarter_is_better(const Sums& whole, const Sums& quarter);
 
  private:
   std::vector<std::size_t> ids_;
   std::vector<double> offsets_;  // per sample, `neighbours_` rows of x y z from the sample
-  int neighbours_ = 0;
+  int neighbours_ = 0, scored_ = 0;
   double width_ = 0;
 };
 
@@ -66,6 +80,11 @@ struct JudgeGeometry {
   std::size_t samples = 0;  // over the whole cloud
   int neighbours = 0;       // the sample included
   double width = 0;         // model units
+  // Positions as clean as the fits' floor (the width set by the spacing, not the noise): the
+  // judge's fits then hold no noise that filtered normals could share, and choose_scale may
+  // score with the nearest quarter (at 0.25% of the fandisk's diagonal it shared the filter's
+  // noise and kept a pass worse than the input).
+  bool quarter_allowed = false;
 };
 JudgeGeometry judge_geometry(const DataEstimate& estimate);
 

@@ -48,13 +48,14 @@ class JudgedPasses {
       const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
     }
-    const pnf::detail::SurfaceJudge::Sums input = judge_.empty() ? pnf::detail::SurfaceJudge::Sums{} : judge_.sums(best_.data());
+    const pnf::detail::SurfaceJudge::Sums input = chosen_scale_sums(judging.geometry);
     double sums[5] = {input.squared, input.disagreement, input.variance, input.inner_variance, double(judge_.size())};
     detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
     const pnf::detail::SurfaceJudge::Sums all{sums[0], sums[1], sums[2], sums[3]};
     const double to_degrees = 180 / pnf::geometry::kPi;
     judging_.rms_by_pass.assign(1, sums[4] > 0 ? std::sqrt(sums[0] / sums[4]) * to_degrees : 0.0);
     judging_.own_error_deg = sums[4] > 0 ? std::sqrt(all.own_error_squared() / sums[4]) * to_degrees : 0.0;
+    judging_.fit_points = judge_.scored();
     // A pass must beat the input by more than the judge's own error explains.
     best_rms_ = pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
     judging_.best_pass = 0;
@@ -75,6 +76,30 @@ class JudgedPasses {
   const std::vector<double>& best_normals() const { return best_; }
 
  private:
+  // The judge's scale as one process's choose_scale takes it, on the ranks' added sums (every rank
+  // decides alike), and this rank's sums of the input at that scale.
+  pnf::detail::SurfaceJudge::Sums chosen_scale_sums(const pnf::detail::JudgeGeometry& geometry) {
+    using Sums = pnf::detail::SurfaceJudge::Sums;
+    std::vector<int> scales = pnf::detail::SurfaceJudge::scales_of(geometry.neighbours);
+    if (!geometry.quarter_allowed) scales.resize(1);
+    auto local_sums = [&](int points) {
+      judge_.score_with(points);
+      return judge_.empty() ? Sums{} : judge_.sums(best_.data());
+    };
+    const Sums whole = local_sums(scales[0]);
+    if (scales.size() < 2) return whole;
+    const Sums quarter = local_sums(scales[1]);
+    double added[8] = {whole.squared,   whole.disagreement,   whole.variance,   whole.inner_variance,
+                       quarter.squared, quarter.disagreement, quarter.variance, quarter.inner_variance};
+    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, added, 8, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
+    if (pnf::detail::SurfaceJudge::quarter_is_better({added[0], added[1], added[2], added[3]},
+                                                     {added[4], added[5], added[6], added[7]})) {
+      return quarter;
+    }
+    judge_.score_with(scales[0]);
+    return whole;
+  }
+
   double summed_rms(const std::vector<double>& normals) const {
     double sums[2] = {judge_.empty() ? 0.0 : judge_.sum_squared(normals.data()), double(judge_.size())};
     detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");

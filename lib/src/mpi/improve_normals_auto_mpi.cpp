@@ -44,7 +44,8 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
     if (c == 0) {
-      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, geometry.samples);
+      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, geometry.samples,
+                                           judging.fit_points);
     }
     judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
     if (c == 0 || rms < best_rms) {

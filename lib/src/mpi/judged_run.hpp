@@ -18,6 +18,7 @@ struct PassJudging {
   std::vector<double> rms_by_pass;      // the judge's RMS (degrees) of the input, then each pass
   int best_pass = 0;                    // 0: the input
   double own_error_deg = 0;             // the judge's own error (SurfaceJudge::own_error_deg)
+  int fit_points = 0;                   // the points of the fits that score (SurfaceJudge::scored)
 };
 
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's
