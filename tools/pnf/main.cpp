@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
       names += (names.empty() ? "" : ", ") + c.app->get_name();
     }
     if (!known) {
-      if (launched_rank() != 0) return kUsage;  // under mpirun, said once (rank 0)
+      if (launched_rank() != 0) return 0;  // under mpirun rank 0 says it and exits 2 (see below)
       std::fprintf(stderr, "pnf: '%s' is not a pnf command; the commands are %s (pnf --help)\n", word.c_str(),
                    names.c_str());
       return kUsage;
@@ -66,8 +66,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return launched_rank() == 0 ? app.exit(e) : 0;
   } catch (const CLI::ParseError& e) {
-    // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong.
-    if (launched_rank() == 0) app.exit(e);  // prints the message and a hint to use --help
+    // Under mpirun every rank parses the same command line: rank 0 alone says what is wrong and
+    // exits 2, which becomes the job's exit code. The other ranks exit 0: had they exited 2 first,
+    // mpirun would kill rank 0 before its message got out.
+    if (launched_rank() != 0) return 0;
+    app.exit(e);  // prints the message and a hint to use --help
     return kUsage;
   }
   for (const Command& c : commands) {
