@@ -38,7 +38,6 @@
 #include <string>
 #include <vector>
 
-#include "auto/setting_grid.hpp"
 #include "eval_auto_cases.hpp"
 #include "eval_clouds.hpp"
 #include "pnf/auto_params.hpp"

@@ -5,16 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "auto/setting_grid.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/normal_filter.hpp"
+#include "setting_grid.hpp"  // the grid is pnf_eval_real's too
 
 namespace pnf::eval {
 
-// The grid is pnf_eval_real's too (lib/src/auto/setting_grid.hpp).
-using pnf::detail::kGridPasses;
-using pnf::detail::kGridSigmaF;
-using pnf::detail::kGridSigmaG;
 // The paper's face-model setting: FilterParams' defaults.
 inline const FilterParams kPaper{};
 

@@ -20,8 +20,8 @@
 // Score: the angle between each normal and its true one, oriented (0-180 degrees): RMS and mean.
 // Rows: the input; the paper's setting (FilterParams{}: sigma_f 4, sigma_g 0.5 mean radii, 4
 // passes) and its wall time; `--auto` as `pnf filter --auto` runs it (run_auto below: the choice
-// and the filter, timed together); with --grid, the best fixed setting of the cross-validation's
-// grid (lib/src/auto/setting_grid.hpp: sigma_f x sigma_g, scored after 1, 2, 4 and 8 passes run
+// and the filter, timed together); with --grid, the best fixed setting of the
+// evaluations' grid (setting_grid.hpp: sigma_f x sigma_g, scored after 1, 2, 4 and 8 passes run
 // one at a time, the input itself counted as 0 passes), ranked by RMS; auto / best (RMS) and
 // whether auto is no worse than its input in both RMS and mean.
 //
@@ -37,25 +37,19 @@
 #include <string>
 #include <vector>
 
-#include "auto/setting_grid.hpp"
 #include "eval_clouds.hpp"
+#include "eval_real_report.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/normal_filter.hpp"
-#include "eval_real_report.hpp"
 #include "real_meshes.hpp"
+#include "setting_grid.hpp"
 
 namespace {
 
 using namespace pnf;
 using namespace pnf::eval;
-
-// The cross-validation's grid (one list for it and for the evaluations).
-using pnf::detail::kGridMaxPasses;
-using pnf::detail::kGridPasses;
-using pnf::detail::kGridSigmaF;
-using pnf::detail::kGridSigmaG;
 
 // The jittered input normals' RMS tilt, degrees.
 constexpr double kJitterRmsDeg = 10;
@@ -97,6 +91,20 @@ AutoOutput run_auto(const PointCloud& cloud, NormalFilter& filter) {
   const AutoRun run = improve_normals_auto(cloud, MutableVec3ArrayView(out.normals), filter);
   out.rule = run.choice.rule + "; " + run.choice.judged;
   return out;
+}
+
+// --dump: the case as N rows of 12 little-endian doubles (position, input normal, true normal,
+// --auto's normal), for a look outside this program (numpy.fromfile(path).reshape(-1, 12)).
+void dump_case(const std::string& folder, const Outcome& o, const PointCloud& cloud, const std::vector<Vec3>& truth,
+               const std::vector<Vec3>& automatic) {
+  char name[256];
+  std::snprintf(name, sizeof name, "%s/%s_%g_%s.f64", folder.c_str(), o.model.c_str(), o.noise, o.normals.c_str());
+  std::ofstream out(name, std::ios::binary);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vec3* rows[4] = {&cloud.positions[i], &cloud.normals[i], &truth[i], &automatic[i]};
+    for (const Vec3* row : rows) out.write(reinterpret_cast<const char*>(row->data()), 3 * sizeof(double));
+  }
+  if (!out) throw std::runtime_error(std::string("cannot write ") + name);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -150,7 +158,7 @@ int main(int argc, char** argv) {
   for (const Model& m : kModels) models.push_back(m.name);
   std::vector<double> noises = {0, 0.0025, 0.006};
   bool grid = true;
-  std::string json_path, data_dir = PNF_SHARED_DATA_DIR, backend = "opencl", device;
+  std::string json_path, dump_folder, data_dir = PNF_SHARED_DATA_DIR, backend = "opencl", device;
   std::uint64_t seed = 1;
   std::string model_list;
   for (const Model& m : kModels) model_list += std::string(model_list.empty() ? "" : ", ") + m.name;
@@ -166,6 +174,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--grid,!--no-grid", grid, "search the grid for the best fixed setting (default on)");
   app.add_option("--json", json_path, "write every case, its grid included, as JSON");
+  app.add_option("--dump", dump_folder, "write each case's points and normals into this folder (see dump_case)");
   app.add_option("--seed", seed, "seed of the sampling, the noise and the jitter")->capture_default_str();
   app.add_option("--data", data_dir, "the shared data folder (meshes/*.off, fandisk.off, bun_zipper.ply, Armadillo.ply, kitten.xyz, oni.xyz)")
       ->capture_default_str();
@@ -279,6 +288,7 @@ int main(int argc, char** argv) {
           o.automatic = oriented_angle_error(automatic.normals, truth);
           o.rule = automatic.rule;
           std::fprintf(stderr, "auto %s (%.2f s)", error_text(o.automatic).c_str(), o.auto_seconds);
+          if (!dump_folder.empty()) dump_case(dump_folder, o, cloud, truth, automatic.normals);
 
           if (grid) {
             t = std::chrono::steady_clock::now();

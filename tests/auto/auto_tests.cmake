@@ -4,6 +4,8 @@
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
+# judged_pass_budget_test: the passes the judge may run; auto_real_meshes_test: --auto on the
+# team's meshes where it once did harm;
 # real_meshes_test, mesh_reader_test: the true normals of pnf_eval_real's meshes and point sets,
 # and its readers (bench/real_meshes.hpp, compiled in here with eval_clouds.cpp, which it builds on).
 list(APPEND PNF_TEST_SOURCES
@@ -12,11 +14,14 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/choose_filter_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/independent_errors_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/judged_pass_budget_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/auto_real_meshes_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/mesh_reader_test.cpp
   ${PROJECT_SOURCE_DIR}/bench/real_meshes.cpp
   ${PROJECT_SOURCE_DIR}/bench/mesh_reader.cpp
   ${PROJECT_SOURCE_DIR}/bench/eval_clouds.cpp)
 set_source_files_properties(${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/auto_real_meshes_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/mesh_reader_test.cpp PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/bench)

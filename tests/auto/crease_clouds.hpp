@@ -1,4 +1,4 @@
-// The shapes and scores of the issue-14 tests (auto_params_creases_test, cross_validation_test):
+// The shapes and scores of the issue-14 tests (auto_params_creases_test and the others that include it):
 // single creases with known true normals, the RMS line angle to the truth, and the fastest
 // filter this machine has.
 #pragma once

@@ -77,11 +77,10 @@ struct DistributedAutoRun {
 };
 
 // `pnf filter --auto` across the ranks, as one process's improve_normals_auto (pnf/auto_params.hpp)
-// does it: the rule on the pooled estimate (as choose_filter_params above, without the
-// cross-validation), then the passes, judged on every rank's samples against its own points and
-// halo, the ranks' sums added, so all ranks keep the same pass. Writes this rank's N_r unit
-// normals. Numbers can differ slightly from one process's (the pooled estimate and the judge's
-// samples are per rank; docs/mpi.md). A stop_change_deg >= 0 replaces the rule's stop rule.
+// does it: the rule on the pooled estimate (as choose_filter_params above), then the passes,
+// judged on every rank's samples against its own points and halo, the ranks' sums added, so all
+// ranks keep the same pass. Writes this rank's N_r unit normals. Numbers can differ slightly
+// from one process's (the pooled estimate and the judge's samples are per rank; docs/mpi.md). A stop_change_deg >= 0 replaces the rule's stop rule.
 // Collective; throws as improve_normals does.
 DistributedAutoRun improve_normals_auto(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                         const FilterOptions& options = {}, const ProgressCallback& progress = {},

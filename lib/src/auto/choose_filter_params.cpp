@@ -189,6 +189,14 @@ void independent_errors_line(const DataEstimate& estimate, FilterParams& p) {
   p.sigma_g = smooth ? kSigmaGOff : kIndependentSigmaG;
 }
 
+// Whether the rule has a line for independent errors on this estimate (not on flat shapes with
+// gentle creases or none, nor where noise hides the features).
+bool has_independent_errors_line(const DataEstimate& e) {
+  const bool curved = e.curved_share >= kCurvedShare;
+  const bool flat_gentle = !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
+  return !flat_gentle && e.position_noise_area_spacings() <= kFeatureOffNoise;
+}
+
 std::string format(const char* pattern, double value) {
   char text[64];
   std::snprintf(text, sizeof text, pattern, value);
@@ -307,9 +315,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
 FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;
   FilterParams p = choice.params;
-  const bool curved = e.curved_share >= kCurvedShare;
-  const bool flat_gentle = !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
-  if (flat_gentle || e.position_noise_area_spacings() > kFeatureOffNoise) return p;
+  if (!has_independent_errors_line(e)) return p;
   independent_errors_line(e, p);
   const double mean_radii_per_area_spacing = e.area_spacing / e.mean_radius;
   p.sigma_f *= mean_radii_per_area_spacing;
@@ -318,6 +324,12 @@ FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
+
+bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterParams& params) {
+  if (!independent_normal_errors(choice) || !has_independent_errors_line(choice.estimate)) return false;
+  const FilterParams line = independent_errors_setting(choice);
+  return params.sigma_f == line.sigma_f && params.sigma_g == line.sigma_g && params.units == line.units;
+}
 
 bool independent_normal_errors(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;

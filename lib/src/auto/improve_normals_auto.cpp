@@ -47,6 +47,11 @@ double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
   return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
 }
 
+int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& choice) {
+  if (on_independent_errors_line(choice, params)) return params.iterations;
+  return std::max(params.iterations, kJudgedPassBudget);
+}
+
 std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples,
                                    int fit_points) {
   return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
@@ -110,7 +115,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
-    params.iterations = std::max(params.iterations, detail::kJudgedPassBudget);
+    params.iterations = detail::judged_pass_budget(params, run.choice);
     std::vector<double> rms_by_pass = {input_rms};
     int best_pass_here = 0;
     auto after_pass = [&](int pass, const std::vector<double>& normals) {

@@ -17,6 +17,24 @@ constexpr int kJudgedPassBudget = 8;
 // the best, the judged RMS of the real meshes only rose (docs/auto.md).
 constexpr int kJudgedPassesPastBest = 2;
 
+// The passes the judge may run of `params`: the budget above, or the setting's own passes where
+// more; but the line for independent errors (on_independent_errors_line) runs its own 1 or 2
+// passes at most. Averaging removes independent errors in a pass or two; past those, the line's
+// wide sigma_g lets each pass smooth the surface's detail, and the judge's fits, which smooth it
+// alike, agree with every pass (the crank at 0.25% noise with 10-degree tilts: 9.9 deg in, 6.7
+// after one pass, 21.8 after the eight the judge kept; the cylinder at 0.5 spacings with 4-degree
+// tilts: 4.0 in, 7.7 after eight). The rule's other lines keep sharp features with a tight
+// sigma_g, and their extra passes were real gains the judge saw (the plane with 12-degree tilts:
+// 11.7 deg in, 1.0 after eight passes, 10.3 after one), as were the passes over PCA normals,
+// whose errors are correlated over the PCA neighbourhood (teddy at 0.25% noise, PCA-16: 28.4 deg
+// in, 22.9 after one pass, 8.95 after eight).
+int judged_pass_budget(const FilterParams& params, const AutoChoice& choice);
+
+// Whether `params` is the rule's line for input normals with independent errors on `choice`'s
+// estimate (independent_errors_setting, where independent_normal_errors holds): the rule's own
+// setting or the judge's second candidate. choose_filter_params.cpp.
+bool on_independent_errors_line(const AutoChoice& choice, const FilterParams& params);
+
 // The setting the rule's line for input normals with errors independent of the positions gives
 // `choice`'s estimate (mean radii, the choice's units, mean radius and stop rule); the choice's
 // own params where that line does not apply (flat shapes with gentle creases or none, or noise

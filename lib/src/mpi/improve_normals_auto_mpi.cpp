@@ -35,7 +35,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   std::string judged;
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
-    params.iterations = std::max(params.iterations, pnf::detail::kJudgedPassBudget);
+    params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
     detail::PassJudging judging;
     judging.geometry = geometry;
     judging.passes_past_best = pnf::detail::kJudgedPassesPastBest;

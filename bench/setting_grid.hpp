@@ -3,7 +3,7 @@
 // same settings.
 #pragma once
 
-namespace pnf::detail {
+namespace pnf::eval {
 
 // In mean radii; 1e6 is "off" (the feature term accepts every neighbour).
 inline constexpr double kGridSigmaF[] = {2, 4, 8};
@@ -12,4 +12,4 @@ inline constexpr double kGridSigmaG[] = {0.25, 0.5, 1, 2, 1e6};
 inline constexpr int kGridPasses[] = {1, 2, 4, 8};
 inline constexpr int kGridMaxPasses = 8;
 
-}  // namespace pnf::detail
+}  // namespace pnf::eval

@@ -1,0 +1,80 @@
+// The passes --auto's judge may run (lib/src/auto/judged_passes.hpp, judged_pass_budget): the
+// budget of 8 (or the setting's own passes where more), except on the line for independent
+// normal errors, which runs its own one or two passes at most.
+#include <gtest/gtest.h>
+
+#include <utility>
+
+#include "auto/judged_passes.hpp"
+#include "pnf/auto_params.hpp"
+
+namespace pnf::test {
+namespace {
+
+// The rule's choice on an estimate of a curved shape with edges, 100k points, area spacing 0.01
+// and mean radius 0.02 model units, 0.5 spacings of noise, normal errors of `normal_noise_deg`
+// that are (coupling 0.1, correlation 0.05) or are not (0.9) independent of the positions.
+AutoChoice choice_with(double normal_noise_deg, bool independent) {
+  DataEstimate e;
+  e.points = 100000;
+  e.samples = 4000;
+  e.area_spacing = 0.01;
+  e.mean_radius = 0.02;
+  e.position_noise = 0.005;
+  e.normal_noise_deg = normal_noise_deg;
+  e.normal_position_coupling = independent ? 0.1 : 0.9;
+  e.normal_error_correlation = independent ? 0.05 : 0.9;
+  e.curved_share = 1;
+  e.crease_length = 5;
+  e.crease_sharpness = 0.3;
+  return choose_filter_params(e);
+}
+
+TEST(JudgedPassBudget, TheIndependentErrorsLineRunsItsOwnPasses) {
+  // One pass below 9 degrees of normal noise, two from it (the rule's line), never extended.
+  for (auto [noise_deg, passes] : {std::pair{5.0, 1}, std::pair{10.0, 2}, std::pair{20.0, 2}}) {
+    const AutoChoice choice = choice_with(noise_deg, true);
+    ASSERT_TRUE(independent_normal_errors(choice));
+    const FilterParams line = detail::independent_errors_setting(choice);
+    EXPECT_TRUE(detail::on_independent_errors_line(choice, line));
+    EXPECT_EQ(line.iterations, passes) << noise_deg << " deg";
+    EXPECT_EQ(detail::judged_pass_budget(line, choice), passes) << noise_deg << " deg";
+  }
+}
+
+TEST(JudgedPassBudget, OtherSettingsGetTheWholeBudget) {
+  // The same cloud, a setting with a tighter sigma_g than the line's: the judge may run 8.
+  const AutoChoice choice = choice_with(10, true);
+  FilterParams tight = detail::independent_errors_setting(choice);
+  tight.sigma_g /= 4;
+  EXPECT_FALSE(detail::on_independent_errors_line(choice, tight));
+  EXPECT_EQ(detail::judged_pass_budget(tight, choice), detail::kJudgedPassBudget);
+  tight.iterations = 14;  // the setting's own passes, where more than the budget
+  EXPECT_EQ(detail::judged_pass_budget(tight, choice), 14);
+}
+
+TEST(JudgedPassBudget, PcaNormalsOnTheLinesSigmasKeepTheWholeBudget) {
+  // PCA normals' errors follow the positions: their passes go on while the judge sees gains, even
+  // with the line's sigmas (teddy at 0.25% noise, PCA-16: 22.9 deg after one pass, 8.95 after 8).
+  const AutoChoice independent = choice_with(10, true);
+  const AutoChoice pca = choice_with(10, false);
+  ASSERT_FALSE(independent_normal_errors(pca));
+  FilterParams params = detail::independent_errors_setting(independent);
+  EXPECT_FALSE(detail::on_independent_errors_line(pca, params));
+  EXPECT_EQ(detail::judged_pass_budget(params, pca), detail::kJudgedPassBudget);
+}
+
+TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
+  // A plane with tilted normals: the rule's own line (sigma_f 8, tight sigma_g, 8 passes), whose
+  // extra passes the judge saw as gains (11.7 deg in, 1.0 after eight).
+  DataEstimate e = choice_with(10, true).estimate;
+  e.curved_share = 0;
+  e.crease_length = 0;
+  const AutoChoice plane = choose_filter_params(e);
+  ASSERT_TRUE(independent_normal_errors(plane));
+  EXPECT_FALSE(detail::on_independent_errors_line(plane, plane.params));
+  EXPECT_EQ(detail::judged_pass_budget(plane.params, plane), detail::kJudgedPassBudget);
+}
+
+}  // namespace
+}  // namespace pnf::test
