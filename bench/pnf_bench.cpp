@@ -56,6 +56,7 @@ struct Variant {
   std::string name;
   FilterOptions options;  // backend kind and device, for the engine and the summary
   std::unique_ptr<detail::FilterBackend> backend;
+  ProgressCallback progress = {};  // set: the passes run in slices (filter_engine.cpp, run_slices)
 };
 
 // `first` is the warm-up run: its lists were written to memory never touched before, as in a
@@ -106,12 +107,13 @@ std::vector<Row> measure(const Workload& w, std::vector<Variant>& variants, int 
   std::vector<Vec3> normals(w.cloud.size());
   std::vector<FilterSummary> warm_ups;
   for (Variant& v : variants)
-    warm_ups.push_back(detail::run_filter(*v.backend, v.options, w.cloud, normals, params, {}));
+    warm_ups.push_back(detail::run_filter(*v.backend, v.options, w.cloud, normals, params, v.progress));
   params.iterations = passes;
   std::vector<std::vector<FilterSummary>> runs(variants.size());
   for (int r = 0; r < repeats; ++r) {
     for (std::size_t i = 0; i < variants.size(); ++i) {
-      runs[i].push_back(detail::run_filter(*variants[i].backend, variants[i].options, w.cloud, normals, params, {}));
+      const Variant& v = variants[i];
+      runs[i].push_back(detail::run_filter(*v.backend, v.options, w.cloud, normals, params, v.progress));
     }
   }
   std::vector<Row> rows;
@@ -194,7 +196,7 @@ int main(int argc, char** argv) {
   std::vector<std::size_t> sweep;
   std::string json_path = "pnf_bench.json", device, data_dir = PNF_SHARED_DATA_DIR;
   int repeats = 3, passes = 4;
-  bool reference = false;
+  bool reference = false, sliced = false;
   std::vector<int> lanes;
   std::vector<std::string> kernel_options;
   app.add_option("--workloads", workloads, "face, dog, bunny (default these three), cube, big")->delimiter(',');
@@ -208,6 +210,9 @@ int main(int argc, char** argv) {
                  "also time the kernel built with these extra OpenCL build options, ';'-separated, e.g. "
                  "'-DPNF_WEIGHT_CUT_EXPONENT=-1e30;-cl-denorms-are-zero' (variants 'opencl <options>')")
       ->delimiter(';');
+  app.add_flag("--sliced", sliced,
+               "also time the OpenCL passes run with a progress callback, in slices of about 0.2 s each waited "
+               "for (variant opencl-sliced: what the CLI runs)");
   app.add_flag("--reference", reference, "also time the CPU reference on 1 thread and on all threads (slow)");
   app.add_option("--device", device, "OpenCL device selector (default $PNF_DEVICE)");
   app.add_option("--json", json_path, "where to write the results (default pnf_bench.json)");
@@ -232,6 +237,10 @@ int main(int argc, char** argv) {
       const std::string selector = opencl.device.selector;
       std::vector<Variant> variants;
       variants.push_back({"opencl", opencl, detail::make_opencl_backend(selector, 0)});
+      if (sliced) {
+        variants.push_back({"opencl-sliced", opencl, detail::make_opencl_backend(selector, 0),
+                            [](const PassProgress&) { return true; }});
+      }
       for (int l : lanes) {
         variants.push_back({"opencl-L" + std::to_string(l), opencl, detail::make_opencl_backend(selector, l)});
       }

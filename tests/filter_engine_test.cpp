@@ -43,7 +43,9 @@ class RefusingBackend : public FilterBackend {
   }
   void end_lists() override { inner_->end_lists(); }
   void wait() override { inner_->wait(); }
-  void run_chunk(const pnf_coeffs& c) override { inner_->run_chunk(c); }
+  void run_chunk(const pnf_coeffs& c, std::size_t first, std::size_t count) override {
+    inner_->run_chunk(c, first, count);
+  }
   double end_pass() override { return inner_->end_pass(); }
   std::size_t device_bytes() const override { return 0; }
   std::vector<double> download_normals() override { return inner_->download_normals(); }

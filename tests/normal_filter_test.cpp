@@ -9,6 +9,8 @@
 #include <cstring>
 #include <limits>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
@@ -209,6 +211,8 @@ TEST_P(NormalFilterTest, ProgressIsReportedPerPassAndCanCancel) {
       EXPECT_TRUE(seen.empty()) << "lists reported after a pass of an in-memory run";
       EXPECT_EQ(p.pass, 0);
       list_fractions.push_back(p.fraction);
+    } else if (p.stage == pnf::ProgressStage::filtering) {
+      EXPECT_EQ(p.pass, int(seen.size())) << "within a pass: the passes finished so far";
     } else {
       EXPECT_EQ(p.stage, pnf::ProgressStage::pass);
       EXPECT_EQ(p.fraction, 1.0);
@@ -240,6 +244,46 @@ TEST_P(NormalFilterTest, ProgressIsReportedPerPassAndCanCancel) {
   }
   EXPECT_EQ(passes_reported, 0);
   for (const Vec3& n : out) EXPECT_EQ(n, (Vec3{7, 7, 7}));
+}
+
+// A pass of more pairs than the engine's first slice (4M, filter_engine.cpp) runs in slices when
+// a progress callback is given: reported as stage filtering, cancellable there, and giving the
+// same normals, bit for bit, as a run without a callback (each point's update reads only the
+// pass's input normals).
+TEST_P(NormalFilterTest, PassesRunInSlicesThatReportAndCancel) {
+  NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
+  PNF_SKIP_IF_NULL(filter);
+  PointCloud ball = sphere(80000, 2.0, 23);
+  FilterParams params;
+  params.iterations = 2;
+  const pnf::FilterResult whole = filter->run(ball, params);
+  ASSERT_GT(whole.summary.neighbour_pairs, std::size_t(6) << 20) << "too few pairs for two slices";
+  std::vector<std::pair<int, double>> inside;  // (passes finished, fraction) within the passes
+  const pnf::FilterResult sliced = filter->run(ball, params, [&](const pnf::PassProgress& p) {
+    if (p.stage == pnf::ProgressStage::filtering) inside.emplace_back(p.pass, p.fraction);
+    return true;
+  });
+  EXPECT_EQ(sliced.normals, whole.normals);
+  // The first pass's first slice has 4M pairs, so that pass has two slices or more; later slices
+  // follow the measured rate (kSliceSeconds), so the second pass may run in one.
+  ASSERT_GE(inside.size(), 3u);
+  EXPECT_TRUE(std::is_sorted(inside.begin(), inside.end()));
+  EXPECT_EQ(inside.front().first, 0);
+  EXPECT_LT(inside.front().second, 1.0);
+  EXPECT_EQ(inside.back(), (std::pair<int, double>{1, 1.0}));
+  // Cancelled at the first slice: no pass ends, and the error says where.
+  int passes_reported = 0;
+  try {
+    filter->run(ball, params, [&](const pnf::PassProgress& p) {
+      passes_reported += p.stage == pnf::ProgressStage::pass;
+      return p.stage != pnf::ProgressStage::filtering;
+    });
+    FAIL() << "not cancelled";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::cancelled) << e.what();
+    EXPECT_NE(std::string(e.what()).find("during pass 1"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(passes_reported, 0);
 }
 
 TEST_P(NormalFilterTest, RadiusPropertyAndGivenRadiusSetTheScale) {

@@ -38,9 +38,11 @@ class FilterBackend {
   virtual ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) = 0;
   // The filled lists become the ones run_chunk uses.
   virtual void end_lists() = 0;
-  // New normals for the points of the current lists, from the current normals, with the run's
-  // coefficients (FilterPlan::coefficients).
-  virtual void run_chunk(const pnf_coeffs& coefficients) = 0;
+  // New normals for points [first, first + count) of the current lists (0 is the lists' first
+  // point), from the current normals, with the run's coefficients (FilterPlan::coefficients).
+  // Queued: wait() tells when they are done. The engine runs a chunk in slices so that it can
+  // report progress and honour a cancel within a pass.
+  virtual void run_chunk(const pnf_coeffs& coefficients, std::size_t first, std::size_t count) = 0;
   // Makes the new normals current (Jacobi). Returns the device seconds of the pass's kernels,
   // or 0 when not measured.
   virtual double end_pass() = 0;

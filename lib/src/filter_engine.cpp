@@ -37,6 +37,15 @@ double sum_angle_deg(const std::vector<double>& a, const std::vector<double>& b,
 // (docs/performance.md).
 constexpr double kCountShare = 0.4;
 
+// With a progress callback, a pass runs in slices of about this many seconds, each waited for,
+// so that progress is told and a cancel honoured within a pass (Ctrl-C in the CLI): a 1M-point
+// pass takes 1.4 s on PoCL here, 5.5 s on the reference backend. The first slice has
+// kFirstSlicePairs pairs; each next one as many as the last one's rate fills in kSliceSeconds,
+// at least kMinSlicePairs so that the waits cost little on a fast device.
+constexpr double kSliceSeconds = 0.2;
+constexpr std::size_t kFirstSlicePairs = std::size_t(1) << 22;
+constexpr std::size_t kMinSlicePairs = std::size_t(1) << 20;
+
 // The list build's progress, as SpatialIndex asks for it (a share f of its search), reported
 // through the caller's callback as stage lists, fraction from + share * f.
 WorkPoll list_poll(const ProgressCallback& progress, int passes_done, int passes, Clock::time_point stage_start,
@@ -177,6 +186,36 @@ class Passes {
     summary_.upload_seconds += seconds_since(t);
   }
 
+  // Runs pass `pass` over the chunk's points: in one go without a progress callback, else in
+  // slices (kSliceSeconds), reported as stage filtering, fraction from + share * the chunk's share
+  // done. A cancel returned mid-pass ends one process's run there; a distributed run's processes
+  // end their passes together, so there it waits for the pass's end (end_of_pass).
+  void run_slices(const Chunk& chunk, int pass, Clock::time_point pass_start, double from, double share) {
+    const pnf_coeffs& coefficients = prepared_.plan.coefficients;
+    if (!progress_) {
+      backend_.run_chunk(coefficients, 0, chunk.count);
+      return;
+    }
+    for (std::size_t begin = 0; begin < chunk.count;) {
+      std::size_t end = begin, pairs = 0;
+      while (end < chunk.count && (end == begin || pairs < slice_pairs_)) pairs += lists_.counts[chunk.first + end++];
+      const auto start = Clock::now();
+      backend_.run_chunk(coefficients, begin, end - begin);
+      backend_.wait();
+      const double seconds = seconds_since(start);
+      if (seconds > 0) {
+        const double next = double(pairs) * kSliceSeconds / seconds;
+        slice_pairs_ = std::size_t(std::clamp(next, double(kMinSlicePairs), 4.0 * double(slice_pairs_)));
+      }
+      begin = end;
+      const PassProgress report{pass - 1, params_.iterations, seconds_since(pass_start), ProgressStage::filtering,
+                                from + share * double(begin) / double(chunk.count)};
+      if (!progress_(report) && (!part_ || part_->one_process)) {
+        throw Error(ErrorCode::cancelled, "cancelled during pass " + std::to_string(pass));
+      }
+    }
+  }
+
   // The halo's rows of the new normals were not computed here: their owners send them.
   std::vector<double> exchange_halo() {
     const std::size_t owned = prepared_.owned, n = prepared_.order.size();
@@ -231,7 +270,7 @@ class Passes {
           load_chunk(chunks[c], pass - 1, pass_start, double(i) / double(chunks.size()), 1.0 / double(chunks.size()));
           loaded = c;
         }
-        backend_.run_chunk(prepared_.plan.coefficients);
+        run_slices(chunks[c], pass, pass_start, double(i) / double(chunks.size()), 1.0 / double(chunks.size()));
       }
       summary_.kernel_seconds.push_back(backend_.end_pass());
       summary_.degenerate_kept += backend_.degenerate_kept();
@@ -251,6 +290,7 @@ class Passes {
   const DistributedPart* part_;
   FilterSummary& summary_;
   std::size_t largest_ = 0;  // bytes of the largest chunk's lists, to halve on a refusal
+  std::size_t slice_pairs_ = kFirstSlicePairs;  // run_slices' next slice
   std::vector<double> halo_;
 };
 

@@ -31,6 +31,9 @@ struct DistributedPart {
   // Asked after every pass's exchange (and stop rule): true ends the passes there, as the stop
   // rule does. In a distributed run every process must answer alike (from summed figures).
   std::function<bool()> ends_passes;
+  // No other process takes part (run_observed's observer): a cancel may end a pass midway, where
+  // the processes of a distributed run end their passes together.
+  bool one_process = false;
 };
 
 // The cloud as the backends see it, with its index and plan: the first step of a run.

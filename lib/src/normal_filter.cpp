@@ -71,6 +71,7 @@ FilterSummary detail::FilterFactory::run_observed(NormalFilter& filter, const Cl
   whole.owned = cloud.size();
   whole.exchange_halo = [&](const std::vector<double>& normals, std::vector<double>&) { after_pass(++pass, normals); };
   whole.ends_passes = enough;
+  whole.one_process = true;
   return run_filter(*filter.impl_->backend, filter.impl_->options, cloud, normals_out, params, progress, &whole);
 }
 

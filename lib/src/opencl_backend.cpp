@@ -18,6 +18,12 @@ constexpr const char* kBuildOptions = "-cl-std=CL1.2 -w";
 // AVX-512 and with AVX2 (where 8 lanes came within the spread).
 constexpr int kCpuLanes = 16;
 constexpr int kGpuLanes = 1;
+// The work-group size of a pass (run_chunk), or the kernel's largest where smaller: a fixed size
+// that fills a GPU's wavefront. Left to the driver, PoCL picked one that divides the slice's
+// point count (one work-item for an odd count) and built a new kernel variant per size: slices
+// ran 2.6-4.1 times slower than whole passes; with 64 the same (pnf_bench --sliced,
+// docs/performance.md).
+constexpr std::size_t kWorkGroup = 64;
 
 // N by 3 doubles -> N float4 (x, y, z, 0): the kernel loads a point's position or normal as one
 // 16-byte vector.
@@ -39,6 +45,9 @@ class OpenClBackend : public FilterBackend {
     std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
     if (!extra_options.empty()) options += " " + extra_options;
     kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
+    work_group_ = guarded([&] {
+      return std::min(kWorkGroup, kernel_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(runtime_.device()));
+    });
   }
 
   std::string description() const override {
@@ -82,7 +91,6 @@ class OpenClBackend : public FilterBackend {
       mapped_offsets_ = q.enqueueMapBuffer(offsets_, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, offset_bytes);
       mapped_indices_ = q.enqueueMapBuffer(indices_, CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, 0, index_bytes);
       chunk_begin_ = static_cast<cl_uint>(first);
-      chunk_count_ = static_cast<cl_uint>(count);
       return ListStorage{static_cast<std::uint64_t*>(mapped_offsets_), static_cast<std::uint32_t*>(mapped_indices_)};
     });
   }
@@ -100,7 +108,8 @@ class OpenClBackend : public FilterBackend {
     });
   }
 
-  void run_chunk(const pnf_coeffs& coefficients) override {
+  void run_chunk(const pnf_coeffs& coefficients, std::size_t first, std::size_t count) override {
+    if (count == 0) return;
     guarded([&] {
       kernel_.setArg(0, positions_);
       kernel_.setArg(1, current_);
@@ -108,13 +117,18 @@ class OpenClBackend : public FilterBackend {
       kernel_.setArg(3, offsets_);
       kernel_.setArg(4, indices_);
       kernel_.setArg(5, chunk_begin_);
-      kernel_.setArg(6, chunk_count_);
+      // The kernel's bound: the slice's end, so that the work-items that round the global size up
+      // (below) do nothing.
+      kernel_.setArg(6, static_cast<cl_uint>(first + count));
       kernel_.setArg(7, static_cast<cl_float>(coefficients.inv_two_sigma_f2));
       kernel_.setArg(8, static_cast<cl_float>(coefficients.inv_two_sigma_g2));
       kernel_.setArg(9, degenerate_);
       cl::Event event;
-      runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange(chunk_count_), cl::NullRange, nullptr,
-                                            &event);
+      // The global offset makes get_global_id the index in the chunk's lists; the global size is
+      // rounded up to whole work-groups (kWorkGroup).
+      const std::size_t global = (count + work_group_ - 1) / work_group_ * work_group_;
+      runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NDRange(first), cl::NDRange(global),
+                                            cl::NDRange(work_group_), nullptr, &event);
       events_.push_back(event);
     });
   }
@@ -183,7 +197,8 @@ class OpenClBackend : public FilterBackend {
   cl::Buffer degenerate_;      // one uint: points of the current pass whose J was degenerate
   std::size_t last_kept_ = 0;  // that count for the pass end_pass() last closed
   std::size_t offsets_capacity_ = 0, indices_capacity_ = 0;
-  cl_uint chunk_begin_ = 0, chunk_count_ = 0;
+  cl_uint chunk_begin_ = 0;
+  std::size_t work_group_ = kWorkGroup;
   void* mapped_offsets_ = nullptr;
   void* mapped_indices_ = nullptr;
   std::vector<cl::Event> events_;

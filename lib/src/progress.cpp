@@ -7,7 +7,7 @@ const char* to_string(ProgressStage stage) {
     case ProgressStage::pass: return "pass";
     case ProgressStage::lists: return "lists";
     case ProgressStage::estimate: return "estimate";
-    case ProgressStage::cross_validation: return "cross-validation";
+    case ProgressStage::filtering: return "filtering";
   }
   return "unknown";
 }

@@ -34,7 +34,6 @@ class ReferenceBackend : public FilterBackend {
 
   ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
     first_ = first;
-    count_ = count;
     offsets_.resize(count + 1);
     indices_.resize(pairs);
     return {offsets_.data(), indices_.data()};
@@ -43,11 +42,11 @@ class ReferenceBackend : public FilterBackend {
   void end_lists() override {}
   void wait() override {}
 
-  void run_chunk(const pnf_coeffs& c) override {
-    const auto count = static_cast<std::int64_t>(count_);
+  void run_chunk(const pnf_coeffs& c, std::size_t first, std::size_t count) override {
+    const auto begin = static_cast<std::int64_t>(first), end = static_cast<std::int64_t>(first + count);
     std::size_t kept_here = 0;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads_) reduction(+ : kept_here)
-    for (std::int64_t k = 0; k < count; ++k) {
+    for (std::int64_t k = begin; k < end; ++k) {
       auto s = static_cast<pnf_index>(first_ + k);
       int kept = 0;
       pnf_vec3 n = pnf_filter_point(s, indices_.data(), offsets_[k], offsets_[k + 1], positions_.data(),
@@ -86,7 +85,7 @@ class ReferenceBackend : public FilterBackend {
   std::vector<pnf_real4> positions_;  // the layout pnf_filter.h reads, as on the device
   std::vector<pnf_real4> current_;
   std::vector<pnf_real4> next_;
-  std::size_t first_ = 0, count_ = 0;
+  std::size_t first_ = 0;  // the current lists' first point
   std::size_t pass_kept_ = 0, last_kept_ = 0;  // degenerate points: this pass so far, last pass
   std::vector<std::uint64_t> offsets_;
   std::vector<std::uint32_t> indices_;

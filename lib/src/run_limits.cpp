@@ -60,7 +60,7 @@ double estimate_run_seconds(FilterBackend& backend, const PreparedCloud& prepare
   backend.end_lists();
   const double list_seconds = seconds_since(start);
   start = Clock::now();
-  backend.run_chunk(prepared.plan.coefficients);
+  backend.run_chunk(prepared.plan.coefficients, 0, m);
   double kernel_seconds = backend.end_pass();  // device time
   if (!(kernel_seconds > 0)) kernel_seconds = seconds_since(start);
   const double scale = pairs / double(std::max<std::size_t>(probe_pairs, 1));

@@ -16,7 +16,8 @@ must not be changed by them meanwhile.
 
 Errors: bad shapes, dtypes, NaN and bad parameters raise ValueError with pnf's message; file
 problems OSError; device problems DeviceError (a RuntimeError); a progress callback that returns
-False raises Cancelled (a RuntimeError), and Ctrl-C between passes KeyboardInterrupt.
+False raises Cancelled (a RuntimeError), and Ctrl-C (within about 0.2 s, within a pass too)
+KeyboardInterrupt.
 """
 
 from __future__ import annotations
@@ -122,7 +123,8 @@ def improve_normals(
         (pnf::parse_backend_and_device), so --backend and --device take and refuse the same.
     progress: called as progress(pass_done, passes, seconds) after each pass; returning False
         cancels the run (Cancelled is raised). It is not called while the neighbour lists are
-        built; Ctrl-C cancels between passes and, within about 0.2 s, during the list build.
+        built; Ctrl-C cancels within about 0.2 s, during the list build and within a pass (passes
+        run in slices).
     radii: optional (N,) surfel radii.
     stop_change_deg: end the passes once the normals change less than this on average
         (degrees); None: off, or the rule's 0.01 with auto=True.

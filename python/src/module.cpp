@@ -37,8 +37,8 @@ FilterOptions filter_options(const std::optional<std::string>& device, const std
 }
 
 // The progress callback the library calls after each pass and about every 0.2 s while it builds
-// the neighbour lists, with the GIL released. It takes the GIL back to run Python's signal
-// handlers (so Ctrl-C raises KeyboardInterrupt between passes and during the list build) and,
+// the neighbour lists and within a pass, with the GIL released. It takes the GIL back to run
+// Python's signal handlers (so Ctrl-C raises KeyboardInterrupt within about 0.2 s) and,
 // after a pass only, the user's callable: its contract stays (pass, passes, seconds). Any Python exception is kept in
 // `pending` and cancels the run; the caller rethrows it in place of pnf::Error(cancelled).
 ProgressCallback python_progress(const py::object& callable, std::exception_ptr& pending) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "auto/surface_judge.hpp"
@@ -158,6 +159,29 @@ TEST(ImproveNormalsAuto, ReportsItsEstimateAndCanBeCancelledThere) {
   }
   ASSERT_EQ(stages.size(), 2u);
   EXPECT_EQ(stages[0], ProgressStage::estimate);
+  EXPECT_EQ(out[0][0], 0.0);  // nothing written
+}
+
+// The judged passes run in slices like any others (filter_engine.cpp): a cancel within the first
+// pass ends the run there, before the pass is done, and nothing is written.
+TEST(ImproveNormalsAuto, CanBeCancelledWithinAJudgedPass) {
+  const Crease c = make_crease(90, 20000, 0.1, 6);
+  PointCloud cloud = c.cloud;
+  cloud.normals = pca16_normals(cloud.positions, c.truth);
+  std::vector<Vec3> out(cloud.size(), Vec3{0, 0, 0});
+  int passes_done = 0;
+  const ProgressCallback stop_within_a_pass = [&](const PassProgress& p) {
+    passes_done += p.stage == ProgressStage::pass;
+    return p.stage != ProgressStage::filtering;
+  };
+  try {
+    improve_normals_auto(cloud, MutableVec3ArrayView(out), fastest_filter(), stop_within_a_pass);
+    FAIL() << "not cancelled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+    EXPECT_NE(std::string(e.what()).find("during pass 1"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(passes_done, 0);
   EXPECT_EQ(out[0][0], 0.0);  // nothing written
 }
 

@@ -23,7 +23,7 @@ void on_interrupt(int) { interrupted = 1; }
 
 // The first SIGINT or SIGTERM asks the run to stop at its next progress report; SA_RESETHAND puts the
 // default action back, so a second one ends the process at once.
-void stop_after_pass_on_interrupt() {
+void stop_on_interrupt() {
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
@@ -51,17 +51,22 @@ int exit_code(const Error& e, Stage stage) {
 }
 
 ProgressCallback progress_bar(bool quiet) {
-  stop_after_pass_on_interrupt();
+  stop_on_interrupt();
   if (quiet || !isatty(STDERR_FILENO)) return [](const PassProgress&) { return interrupted == 0; };
   return [](const PassProgress& p) {
     constexpr int kWidth = 30;
-    // A pass shows passes done of all; the other stages their own share done.
-    const double done = p.stage == ProgressStage::pass ? (p.passes > 0 ? double(p.pass) / p.passes : 1.0)
-                                                       : std::clamp(p.fraction, 0.0, 1.0);
-    const int filled = int(kWidth * done);
+    // The passes show the passes done of all, within a pass too; the other stages their own
+    // share done.
+    const double fraction = std::clamp(p.fraction, 0.0, 1.0);
+    const double done = p.stage == ProgressStage::pass        ? (p.passes > 0 ? double(p.pass) / p.passes : 1.0)
+                        : p.stage == ProgressStage::filtering ? (p.passes > 0 ? (p.pass + fraction) / p.passes : 1.0)
+                                                              : fraction;
+    const int filled = int(kWidth * std::min(done, 1.0));
     char label[32];
     if (p.stage == ProgressStage::pass) {
       std::snprintf(label, sizeof label, "pass %d/%d", p.pass, p.passes);
+    } else if (p.stage == ProgressStage::filtering) {
+      std::snprintf(label, sizeof label, "pass %d/%d", p.pass + 1, p.passes);
     } else {
       std::snprintf(label, sizeof label, "%s %3.0f%%", to_string(p.stage), 100 * done);
     }
@@ -70,7 +75,7 @@ ProgressCallback progress_bar(bool quiet) {
     const bool last =
         p.stage == ProgressStage::pass
             ? p.pass == p.passes
-            : (p.stage == ProgressStage::estimate || p.stage == ProgressStage::cross_validation) && done >= 1;
+            : p.stage == ProgressStage::estimate && done >= 1;
     if (last || interrupted) {
       std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
     }

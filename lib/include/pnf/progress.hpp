@@ -15,13 +15,13 @@ enum class ProgressStage {
   lists,
   // estimate_normals' plane fits and orientation.
   estimate,
-  // --auto's cross-validation (choose_filter_params with a filter): fraction is the share of
-  // the settings tried.
-  cross_validation,
+  // Within a filter pass: pass is the passes finished so far, fraction the share of this pass's
+  // points done, seconds the pass's time so far (about every 0.2 s).
+  filtering,
 };
 
 // What a progress callback is told. Reported after each pass (stage pass, fraction 1), and about
-// every 0.2 s during the other stages; always on the thread that called run() or
+// every 0.2 s during the other stages and within a pass (stage filtering); always on the thread that called run() or
 // estimate_normals(), never concurrently. Return false from the callback to cancel the run: the
 // library's worker threads stop at their next block of work, the call throws
 // pnf::Error(cancelled) and writes nothing. Fields added after pass, passes and seconds have
@@ -33,7 +33,7 @@ struct PassProgress {
   ProgressStage stage = ProgressStage::pass;
   double fraction = 1;  // share of this stage's work done, in [0, 1]; 1 for a finished pass
 };
-const char* to_string(ProgressStage stage);  // "pass", "lists", "estimate", "cross-validation"
+const char* to_string(ProgressStage stage);  // "pass", "lists", "estimate", "filtering"
 using ProgressCallback = std::function<bool(const PassProgress&)>;
 
 }  // namespace pnf
