@@ -50,10 +50,11 @@ bool canonical_before(const Vec3& a, const Vec3& b) {
   return false;
 }
 
-std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals) {
+std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals,
+                                        const MortonFrame* given) {
   const std::size_t n = positions.count;
   const BoundingBox box = bounding_box(positions);
-  const MortonFrame frame = morton_frame(box.min, box.max);
+  const MortonFrame frame = given ? *given : morton_frame(box.min, box.max);
   std::vector<std::uint64_t> keys(n);
   for (std::size_t i = 0; i < n; ++i) keys[i] = morton_key(frame, positions.at(i));
   std::vector<std::uint32_t> order(n);

@@ -8,13 +8,6 @@
 
 namespace pnf::detail {
 
-// A permutation of 0..N-1: order[k] is the input index of the k-th point along the Morton
-// (Z-order) curve of the bounding box (pnf::bounding_box), 21 bits per axis. Points with the same
-// key go in canonical_before's order (then, with `normals`, by the normals' bits; last, input
-// order, which only identical rows still share), so that the order of the points does not depend
-// on the input's row order. positions (and normals): N by 3, any view.
-std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals = nullptr);
-
 // The order between two points of equal Morton key, or two normals of equal points: by the bits
 // of x, then y, then z (as doubles). A distributed run breaks its curve's ties the same way, so
 // that its points keep one process's order whatever rank holds them.
@@ -30,5 +23,15 @@ struct MortonFrame {
 MortonFrame morton_frame(const Vec3& low, const Vec3& high);
 // The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by.
 std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p);
+
+// A permutation of 0..N-1: order[k] is the input index of the k-th point along the Morton
+// (Z-order) curve of the bounding box (pnf::bounding_box), 21 bits per axis. Points with the same
+// key go in canonical_before's order (then, with `normals`, by the normals' bits; last, input
+// order, which only identical rows still share), so that the order of the points does not depend
+// on the input's row order. positions (and normals): N by 3, any view. With `frame`, the keys
+// are that frame's, not the points' own box's: a distributed part orders its points as one
+// process orders the whole cloud.
+std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals = nullptr,
+                                        const MortonFrame* frame = nullptr);
 
 }  // namespace pnf::detail

@@ -64,6 +64,18 @@ void lists_done(const ProgressCallback& progress, int passes_done, int passes, C
   }
 }
 
+// A part's lists come out in ascending index, its owned points before its halo; one process's
+// in ascending curve rank. Sorted by curve rank, a point's list holds its neighbours in one
+// process's order, so the kernel's sums round alike (DistributedPart::has_whole_frame).
+void sort_lists_along_curve(const ListStorage& lists, std::size_t count, const std::vector<std::uint32_t>& rank) {
+  const auto points = static_cast<std::int64_t>(count);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t k = 0; k < points; ++k) {
+    std::sort(lists.indices + lists.offsets[k], lists.indices + lists.offsets[k + 1],
+              [&rank](std::uint32_t a, std::uint32_t b) { return rank[a] < rank[b]; });
+  }
+}
+
 // After pass `pass`: tells progress (which may cancel), applies the stop rule on the change from
 // `previous` to `current` (N by 3; downloaded here when empty) and asks the part whether the
 // passes end. Returns true when they do; `previous` then holds `current`.
@@ -180,6 +192,7 @@ class Passes {
                                  storage.indices,
                                  list_poll(progress_, passes_done, params_.iterations, stage_start, from, share),
                                  &lists_.candidates);
+    if (!prepared_.curve_rank.empty()) sort_lists_along_curve(storage, chunk.count, prepared_.curve_rank);
     summary_.neighbour_seconds += seconds_since(t);
     t = Clock::now();
     backend_.end_lists();
@@ -315,16 +328,22 @@ void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const F
 
 }  // namespace
 
-PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned) {
+PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned,
+                            const DistributedPart* part) {
   PreparedCloud out;
   out.owned = owned;
+  const bool whole_frame = part && part->has_whole_frame;
   // The curve with ties by the positions' and normals' bits: the same order, and so the same
   // lists, sums and normals, for any row order of the input.
-  out.order = morton_order(cloud.positions, &cloud.normals);
+  out.order = morton_order(cloud.positions, &cloud.normals, whole_frame ? &part->whole_curve : nullptr);
   if (owned < cloud.size()) {
+    std::vector<std::uint32_t> rank_of_view(cloud.size());
+    for (std::size_t k = 0; k < out.order.size(); ++k) rank_of_view[out.order[k]] = std::uint32_t(k);
     std::stable_partition(out.order.begin(), out.order.end(), [&](std::uint32_t i) { return i < owned; });
+    out.curve_rank.resize(cloud.size());
+    for (std::size_t k = 0; k < out.order.size(); ++k) out.curve_rank[k] = rank_of_view[out.order[k]];
   }
-  const Vec3 centre = bounding_box(cloud.positions).centre();
+  const Vec3 centre = whole_frame ? part->whole_centre : bounding_box(cloud.positions).centre();
   const std::size_t n = cloud.size();
   std::vector<double> positions(3 * n);
   out.normals.resize(3 * n);
@@ -365,7 +384,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   // Step 1, prepare; then the refusals, before any list is allocated, so that the memory and the
   // time are known first (docs/method.md, "Neighbour lists").
   const auto start = Clock::now();
-  const PreparedCloud prepared = prepare_cloud(cloud, params, owned);
+  const PreparedCloud prepared = prepare_cloud(cloud, params, owned, part);
   summary.mean_radius = prepared.plan.radius.value;
   summary.radius_source = prepared.plan.radius.source;
   summary.sigma_f = prepared.plan.sigma_f;

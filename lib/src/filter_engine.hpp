@@ -13,6 +13,7 @@
 #include "filter_plan.hpp"
 #include "pnf/normal_filter.hpp"
 #include "spatial/spatial_index.hpp"
+#include "spatial/spatial_order.hpp"
 
 namespace pnf::detail {
 
@@ -34,6 +35,13 @@ struct DistributedPart {
   // No other process takes part (run_observed's observer): a cancel may end a pass midway, where
   // the processes of a distributed run end their passes together.
   bool one_process = false;
+  // The whole cloud's curve frame and bounding-box centre (a distributed run's global frame),
+  // where set: the part orders and re-centres its points as one process does the whole cloud,
+  // and each list holds its neighbours in the whole cloud's curve order, so every point's sums
+  // round as in one process and the normals are the same bits (docs/method.md).
+  bool has_whole_frame = false;
+  MortonFrame whole_curve;
+  Vec3 whole_centre = {0, 0, 0};
 };
 
 // The cloud as the backends see it, with its index and plan: the first step of a run.
@@ -46,12 +54,17 @@ struct PreparedCloud {
                                           // bounding box's centre in double (docs/method.md)
   std::size_t owned = 0;                  // the points filtered: [0, owned) in that order
   FilterPlan plan;
+  // A part's points' ranks along the curve before the owned points were put first (empty when
+  // nothing moved): the order its lists are sorted in (sort_lists_along_curve).
+  std::vector<std::uint32_t> curve_rank;
 };
 
 // Orders and re-centres a non-empty, checked cloud, indexes it and makes the plan for `params`
 // (validated), resolving the mean radius as FilterParams says (given, the radii's mean, or the
 // estimate on this index).
-PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned);
+// With `part`'s whole frame, the part's curve and centre are the whole cloud's.
+PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned,
+                            const DistributedPart* part = nullptr);
 
 // NormalFilter::run on `backend` (see normal_filter.hpp for the contract). When the backend
 // reports that the device refused an allocation (DeviceMemoryError), the run starts over with

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Compares two binary_little_endian PLY files as the distributed filter promises (docs/method.md,
-"Distributed runs (MPI)"): every byte equal except the vertex normals, and each normal within
-TOLERANCE degrees. Usage: compare_ply.py EXPECTED ACTUAL [TOLERANCE_DEG]. Prints the largest
-angle; exits 1 on any difference."""
+"""Says how two binary_little_endian PLY files differ, for the MPI tests' failure messages (the
+distributed filter writes one process's bytes; docs/method.md, "Distributed runs (MPI)"): every
+byte but the vertex normals must be equal, and each normal within TOLERANCE degrees. Usage:
+compare_ply.py EXPECTED ACTUAL [TOLERANCE_DEG]. Prints the largest angle; exits 1 on any
+difference."""
 import math
 import struct
 import sys

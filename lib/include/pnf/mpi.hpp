@@ -3,13 +3,13 @@
 //
 // Each rank passes the points it holds, in any partition (some ranks may hold none); each gets
 // back the new normals of exactly those points, in their order. The result is the one-process
-// result of NormalFilter::run on the concatenation of every rank's points in rank order (docs/method.md,
-// "Distributed runs (MPI)"), within 1e-3 degrees per normal. Inside: the points move once to a
-// spatially compact owner (Morton ranges of the global bounding box, balanced by points); each
-// owner receives once the points within 2 sigma_f of its own (its halo), builds lists for its
-// own points over own + halo, and after every pass receives its halo's new normals from their
-// owners (neighbour collectives on a distributed-graph communicator). The new normals go back
-// to the rank that passed them.
+// result of NormalFilter::run on the concatenation of every rank's points in rank order, bit for
+// bit, for any partition and rank count (docs/method.md, "Distributed runs (MPI)"). Inside: the
+// points move once to a spatially compact owner (Morton ranges of the global bounding box,
+// balanced by points); each owner receives once the points within 2 sigma_f of its own (its
+// halo), builds lists for its own points over own + halo in the whole cloud's curve order, and
+// after every pass receives its halo's new normals from their owners (neighbour collectives on
+// a distributed-graph communicator). The new normals go back to the rank that passed them.
 //
 // Thread safety: a collective call: every rank of `comm` calls it with the same params and
 // options, from one thread each. MPI is called from the calling thread only, while the engine

@@ -192,6 +192,10 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   if (params.units == Units::radius) part_params.mean_radius = mean_radius;
   pnf::detail::DistributedPart part;
   part.owned = n;
+  // One process's curve and centre, so each point's list and sums are one process's.
+  part.has_whole_frame = true;
+  part.whole_curve = frame.morton;
+  part.whole_centre = frame.centre();
   part.exchange_halo = [&](const std::vector<double>& owned_normals, std::vector<double>& halo) {
     agree.check();  // a rank that failed in its pass ends the run here, on every rank
     plan.exchange(owned_normals, halo);
