@@ -6,7 +6,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "geometry.hpp"
+#include "pnf/angle.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/synthetic_shapes.hpp"
 
@@ -20,7 +20,6 @@ struct DemoFlags {
   DeviceFlags device;
 };
 
-using geometry::angle_degrees;
 
 struct ErrorStats {
   double mean = 0, median = 0, p90 = 0;

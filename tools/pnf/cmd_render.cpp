@@ -9,7 +9,7 @@
 
 #include "cli_common.hpp"
 #include "commands.hpp"
-#include "geometry.hpp"
+#include "pnf/angle.hpp"
 #include "pnf/png.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/render.hpp"
@@ -148,7 +148,7 @@ PointCloud read_cloud_with_normals(const std::string& path, const std::string& r
 AngleStats angle_stats(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   AngleStats stats;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const double angle = geometry::angle_degrees(a[i], b[i]);
+    const double angle = angle_degrees(a[i], b[i]);
     stats.mean += angle;
     stats.max = std::max(stats.max, angle);
   }

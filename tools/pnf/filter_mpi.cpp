@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <string>
 
-#include "agreement.hpp"
 #include "cli_common.hpp"
 #include "pnf/mpi.hpp"
 
@@ -69,7 +68,7 @@ int run(const std::string& in, const std::string& out, const FilterFileOptions& 
       print_summary(in, out, done, options.automatic);
     }
     return kOk;
-  } catch (const mpi::detail::AgreedError& e) {
+  } catch (const mpi::AgreedError& e) {
     // Every rank has the same error; one prints it.
     return rank == 0 ? report(e, stage_of(step)) : exit_code(e, stage_of(step));
   } catch (const Error& e) {

@@ -24,6 +24,7 @@
 
 #include "pnf/auto_params.hpp"
 #include "pnf/cloud_view.hpp"
+#include "pnf/error.hpp"
 #include "pnf/filter_file_options.hpp"
 #include "pnf/normal_filter.hpp"
 
@@ -86,6 +87,16 @@ DistributedAutoRun improve_normals_auto(MPI_Comm comm, const CloudView& local, M
                                         const FilterOptions& options = {}, const ProgressCallback& progress = {},
                                         double stop_change_deg = -1);
 
+// What every rank throws, the same on each, once the ranks have agreed that one of them failed
+// (filter_file and the other collective calls here): the message names the first failing rank
+// ("rank 2 of 4: ..."). A caller that reports errors prints it on one rank; any other
+// pnf::Error comes from one rank alone, inside a step the others may still wait in (end the job,
+// e.g. MPI_Abort).
+class AgreedError : public Error {
+ public:
+  using Error::Error;
+};
+
 // How far filter_file got: set as it goes, also when it throws (an io error while reading is the
 // input's, while writing the output's).
 enum class FileStep { reading, filtering, writing };
@@ -120,8 +131,8 @@ struct FileRun {
 // removed by the next filter_file writing OUT. `progress` is called on every rank that passes
 // one (pass an empty one on the ranks that should not draw), during the run and once more
 // before OUT is replaced: false on any rank then cancels, OUT untouched. Collective; throws
-// pnf::Error on every rank alike when any rank fails, the message naming the first failing rank
-// ("rank 2 of 4: ..."); `step`, when given, says where.
+// AgreedError on every rank alike when any rank fails, the message naming the first failing
+// rank ("rank 2 of 4: ..."); `step`, when given, says where.
 FileRun filter_file(MPI_Comm comm, const std::string& in_path, const std::string& out_path,
                     const FilterFileOptions& options = {}, const ProgressCallback& progress = {},
                     FileStep* step = nullptr);

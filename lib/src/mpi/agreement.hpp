@@ -9,14 +9,13 @@
 #include <string>
 
 #include "pnf/error.hpp"
+#include "pnf/mpi.hpp"
 
 namespace pnf::mpi::detail {
 
-// The error every rank throws once the ranks have agreed that one failed. Not checked again.
-class AgreedError : public Error {
- public:
-  using Error::Error;
-};
+// The error every rank throws once the ranks have agreed that one failed (public: pnf/mpi.hpp).
+// Not checked again.
+using pnf::mpi::AgreedError;
 
 class Agreement {
  public:
