@@ -9,6 +9,7 @@
 #include "convert.hpp"
 #include "pnf/error.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf::python {
 namespace {

@@ -20,6 +20,7 @@
 #include "pnf/device.hpp"
 #include "pnf/normal_filter.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 #include "pnf/synthetic_shapes.hpp"
 #include "test_backends.hpp"
 #include "test_clouds.hpp"

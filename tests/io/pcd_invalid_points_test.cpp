@@ -17,6 +17,7 @@
 #include "ply_test_files.hpp"
 #include "pnf/error.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf {
 namespace {

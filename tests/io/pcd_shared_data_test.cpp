@@ -17,6 +17,7 @@
 #include "pcd_test_files.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf {
 namespace {

@@ -2,6 +2,7 @@
 // type, lists, unknown properties and elements kept byte for byte, normals replaced or added, PCL
 // normal names.
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -10,6 +10,7 @@
 
 #include "ply_test_files.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf {
 namespace {

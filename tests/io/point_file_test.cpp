@@ -1,6 +1,7 @@
 // pnf::PointFile beyond the encodings (point_file_encodings_test.cpp): comments kept in place,
 // loose spacing, extensions, scalar properties, PointCloud conversion and copies.
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,6 +1,7 @@
 // pnf::read_point_file / write_point_file on the text formats (.xyz, .xyzn, .pwn): comments and
 // blank lines, exact doubles, conversion to and from PLY, a leading point count.
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

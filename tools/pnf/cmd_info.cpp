@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf::cli {
 namespace {

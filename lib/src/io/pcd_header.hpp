@@ -8,6 +8,7 @@
 
 #include "byte_source.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf {
 

@@ -1,4 +1,5 @@
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf {
 

@@ -14,6 +14,7 @@
 
 #include "pnf/point_cloud.hpp"
 #include "pnf/point_file.hpp"
+#include "pnf/point_file_header.hpp"
 
 namespace pnf::mpi::detail {
 
