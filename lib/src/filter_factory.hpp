@@ -1,5 +1,5 @@
-// Internal: NormalFilters with kernel tuning that the public options leave to the device type.
-// The bench and the parity tests use it to time and check every lane width.
+// Internal: what the library's own callers do with a NormalFilter beyond the public run():
+// --auto's judged passes.
 #pragma once
 
 #include <functional>
@@ -10,9 +10,6 @@
 namespace pnf::detail {
 
 struct FilterFactory {
-  // A filter whose OpenCL kernel takes `lanes` neighbours per vector step (1, 4, 8 or 16; 0: the
-  // device type's default, as NormalFilter(options) picks). Ignored by the reference backend.
-  static NormalFilter with_lanes(const FilterOptions& options, int lanes);
   // filter.run(cloud, normals_out, params, progress), telling `after_pass` the new normals (N by
   // 3, the view's order) after every pass: --auto's judge scores the passes in between without
   // running the first ones again. params.mean_radius must be given with

@@ -48,17 +48,6 @@ struct NormalFilter::Impl {
   std::unique_ptr<detail::FilterBackend> backend;
 };
 
-NormalFilter detail::FilterFactory::with_lanes(const FilterOptions& options, int lanes) {
-  options.validate();
-  if (lanes != 0 && lanes != 1 && lanes != 4 && lanes != 8 && lanes != 16) {
-    bad_option("lanes", std::to_string(lanes), "must be 0 (the device type's default), 1, 4, 8 or 16");
-  }
-  auto impl = std::make_unique<NormalFilter::Impl>();
-  impl->options = options;
-  impl->options.device = options.device.resolved();
-  impl->backend = make_backend(impl->options, lanes);
-  return NormalFilter(std::move(impl));
-}
 
 FilterSummary detail::FilterFactory::run_observed(NormalFilter& filter, const CloudView& cloud,
                                                   MutableVec3ArrayView normals_out, const FilterParams& params,
@@ -75,9 +64,12 @@ FilterSummary detail::FilterFactory::run_observed(NormalFilter& filter, const Cl
   return run_filter(*filter.impl_->backend, filter.impl_->options, cloud, normals_out, params, progress, &whole);
 }
 
-NormalFilter::NormalFilter(const FilterOptions& options)
-    : NormalFilter(detail::FilterFactory::with_lanes(options, 0)) {}
-NormalFilter::NormalFilter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+NormalFilter::NormalFilter(const FilterOptions& options) : impl_(std::make_unique<Impl>()) {
+  options.validate();
+  impl_->options = options;
+  impl_->options.device = options.device.resolved();
+  impl_->backend = detail::make_backend(impl_->options);
+}
 NormalFilter::~NormalFilter() = default;
 NormalFilter::NormalFilter(NormalFilter&&) noexcept = default;
 NormalFilter& NormalFilter::operator=(NormalFilter&&) noexcept = default;
