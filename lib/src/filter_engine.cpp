@@ -64,15 +64,19 @@ void lists_done(const ProgressCallback& progress, int passes_done, int passes, C
   }
 }
 
-// A part's lists come out in ascending index, its owned points before its halo; one process's
-// in ascending curve rank. Sorted by curve rank, a point's list holds its neighbours in one
-// process's order, so the kernel's sums round alike (DistributedPart::has_whole_frame).
-void sort_lists_along_curve(const ListStorage& lists, std::size_t count, const std::vector<std::uint32_t>& rank) {
+// A part's lists come out in ascending index: its owned neighbours, then its halo ones, each run
+// in curve order; one process's in ascending curve rank. Merged by curve rank, a point's list
+// holds its neighbours in one process's order, so the kernel's sums round alike
+// (DistributedPart::has_whole_frame). A merge of the two runs, not a sort: linear.
+void sort_lists_along_curve(const ListStorage& lists, std::size_t count, std::size_t owned,
+                            const std::vector<std::uint32_t>& rank) {
   const auto points = static_cast<std::int64_t>(count);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t k = 0; k < points; ++k) {
-    std::sort(lists.indices + lists.offsets[k], lists.indices + lists.offsets[k + 1],
-              [&rank](std::uint32_t a, std::uint32_t b) { return rank[a] < rank[b]; });
+    std::uint32_t* begin = lists.indices + lists.offsets[k];
+    std::uint32_t* end = lists.indices + lists.offsets[k + 1];
+    std::uint32_t* halo = std::lower_bound(begin, end, std::uint32_t(owned));
+    std::inplace_merge(begin, halo, end, [&rank](std::uint32_t a, std::uint32_t b) { return rank[a] < rank[b]; });
   }
 }
 
@@ -192,7 +196,9 @@ class Passes {
                                  storage.indices,
                                  list_poll(progress_, passes_done, params_.iterations, stage_start, from, share),
                                  &lists_.candidates);
-    if (!prepared_.curve_rank.empty()) sort_lists_along_curve(storage, chunk.count, prepared_.curve_rank);
+    if (!prepared_.curve_rank.empty()) {
+      sort_lists_along_curve(storage, chunk.count, prepared_.owned, prepared_.curve_rank);
+    }
     summary_.neighbour_seconds += seconds_since(t);
     t = Clock::now();
     backend_.end_lists();
