@@ -327,7 +327,7 @@ void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const F
     throw Error(ErrorCode::invalid_argument, "the output normals hold " + std::to_string(normals_out.count) +
                                                  " rows for " + std::to_string(owned) + " points");
   }
-  if (part && params.units == Units::radius && !(params.mean_radius > 0)) {
+  if (part && !part->one_process && params.units == Units::radius && !(params.mean_radius > 0)) {
     throw Error(ErrorCode::invalid_argument, "a distributed part needs the mean radius given (params.mean_radius)");
   }
 }

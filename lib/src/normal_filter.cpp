@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "filter_engine.hpp"
-#include "filter_factory.hpp"
 #include "pnf/error.hpp"
 
 namespace pnf {
@@ -49,19 +48,21 @@ struct NormalFilter::Impl {
 };
 
 
-FilterSummary detail::FilterFactory::run_observed(NormalFilter& filter, const CloudView& cloud,
-                                                  MutableVec3ArrayView normals_out, const FilterParams& params,
-                                                  const PassObserver& after_pass, const ProgressCallback& progress,
-                                                  const std::function<bool()>& enough) {
+FilterSummary NormalFilter::run_observed(const CloudView& cloud, MutableVec3ArrayView normals_out,
+                                         const FilterParams& params, const PassObserver& observe,
+                                         const ProgressCallback& progress) {
   // A distributed part that owns every point: its halo exchange, called after each pass with the
   // new normals and with no halo to fill, is the observer.
   int pass = 0;
-  DistributedPart whole;
+  bool go_on = true;
+  detail::DistributedPart whole;
   whole.owned = cloud.size();
-  whole.exchange_halo = [&](const std::vector<double>& normals, std::vector<double>&) { after_pass(++pass, normals); };
-  whole.ends_passes = enough;
+  whole.exchange_halo = [&](const std::vector<double>& normals, std::vector<double>&) {
+    go_on = !observe || observe(++pass, normals);
+  };
+  whole.ends_passes = [&] { return !go_on; };
   whole.one_process = true;
-  return run_filter(*filter.impl_->backend, filter.impl_->options, cloud, normals_out, params, progress, &whole);
+  return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, &whole);
 }
 
 NormalFilter::NormalFilter(const FilterOptions& options) : impl_(std::make_unique<Impl>()) {

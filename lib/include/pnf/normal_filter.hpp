@@ -17,10 +17,6 @@
 
 namespace pnf {
 
-namespace detail {
-struct FilterFactory;  // internal: runs a filter with --auto's per-pass observer (lib/src)
-}
-
 // FilterOptions: pnf/filter_options.hpp; FilterSummary and FilterResult: pnf/filter_summary.hpp;
 // PassProgress, ProgressStage and ProgressCallback: pnf/progress.hpp.
 
@@ -55,11 +51,19 @@ class NormalFilter {
   // The same on a PointCloud, returning the normals.
   FilterResult run(const PointCloud& cloud, const FilterParams& params = {}, const ProgressCallback& progress = {});
 
+  // run(cloud, normals_out, params, progress), telling `observe` the new normals after every pass
+  // (N by 3 doubles in the cloud's row order, unit to rounding; valid during the call), for a
+  // caller that scores the passes as they go (as --auto's judge does) without running the first
+  // ones again. When `observe` returns false the passes end there, as the stop rule ends them:
+  // normals_out gets that pass's normals and the summary says how many passes ran.
+  using PassObserver = std::function<bool(int pass, const std::vector<double>& normals)>;
+  FilterSummary run_observed(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
+                             const PassObserver& observe, const ProgressCallback& progress = {});
+
   // The device in use, or "CPU reference (double)" for the reference backend.
   std::string device_description() const;
 
  private:
-  friend struct detail::FilterFactory;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <vector>
 
-#include "filter_factory.hpp"
 #include "judged_passes.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
@@ -118,6 +117,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     params.iterations = detail::judged_pass_budget(params, run.choice);
     std::vector<double> rms_by_pass = {input_rms};
     int best_pass_here = 0;
+    // Scores each pass; the passes end kJudgedPassesPastBest past this setting's best.
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
       rms_by_pass.push_back(judge.rms_deg(normals.data()));
       if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
@@ -127,10 +127,9 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
         best_candidate = c;
         run.passes_kept = pass;
       }
+      return int(rms_by_pass.size()) - 1 - best_pass_here < detail::kJudgedPassesPastBest;
     };
-    auto enough = [&] { return int(rms_by_pass.size()) - 1 - best_pass_here >= detail::kJudgedPassesPastBest; };
-    const FilterSummary summary =
-        detail::FilterFactory::run_observed(filter, cloud, normals_out, params, after_pass, progress, enough);
+    const FilterSummary summary = filter.run_observed(cloud, normals_out, params, after_pass, progress);
     if (c == best_candidate) run.summary = summary;
     judged += detail::judged_candidate(c, params, rms_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
