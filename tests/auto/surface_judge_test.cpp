@@ -157,8 +157,10 @@ TEST(ImproveNormalsAuto, ReportsItsEstimateAndCanBeCancelledThere) {
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
   }
-  ASSERT_EQ(stages.size(), 2u);
-  EXPECT_EQ(stages[0], ProgressStage::estimate);
+  // The estimate's start, its fits (about every 0.1 s; the first at once), its end: all stage
+  // estimate, and nothing after the cancel.
+  ASSERT_GE(stages.size(), 3u);
+  for (ProgressStage stage : stages) EXPECT_EQ(stage, ProgressStage::estimate);
   EXPECT_EQ(out[0][0], 0.0);  // nothing written
 }
 
@@ -183,6 +185,28 @@ TEST(ImproveNormalsAuto, CanBeCancelledWithinAJudgedPass) {
   }
   EXPECT_EQ(passes_done, 0);
   EXPECT_EQ(out[0][0], 0.0);  // nothing written
+}
+
+// A cancel during the estimate's fits: the first fit report comes at once, so this does not
+// depend on the machine's speed.
+TEST(ImproveNormalsAuto, CanBeCancelledWhileFitting) {
+  const PointCloud s = sphere(20000, 1.0, 3);
+  std::vector<Vec3> out(s.size(), Vec3{0, 0, 0});
+  int reports = 0;
+  const ProgressCallback stop_in_the_fits = [&](const PassProgress& p) {
+    ++reports;
+    EXPECT_EQ(p.stage, ProgressStage::estimate);
+    return !(p.fraction > 0 && p.fraction < 1);
+  };
+  try {
+    improve_normals_auto(s, MutableVec3ArrayView(out), fastest_filter(), stop_in_the_fits);
+    FAIL() << "not cancelled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+    EXPECT_NE(std::string(e.what()).find("fitting"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(reports, 2);  // the start, then the first fit report
+  EXPECT_EQ(out[0][0], 0.0);
 }
 
 TEST(ImproveNormalsAuto, RefusesAnOutputOfTheWrongSize) {

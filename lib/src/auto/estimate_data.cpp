@@ -3,7 +3,11 @@
 // sample of the points give the area spacing, the position noise, the share of samples at an
 // edge, the curved share and the input normals' noise.
 #include <Eigen/Dense>
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -273,7 +277,8 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
 
 }  // namespace
 
-DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge) {
+DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
+                                   const std::function<bool(double fraction)>& poll) {
   detail::check_cloud(cloud, estimate_requirements());
   const std::size_t count = cloud.size();
   // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
@@ -287,24 +292,40 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge) 
   }
   const detail::SpatialIndex index(std::move(centred_input), detail::SpatialIndex::Layout::any_order);
   const std::vector<double>& centred = index.positions();
-  // Fits every sample at one scale, in parallel.
+  // Fits every sample at one scale, in parallel. The calling thread (OpenMP's master) asks
+  // `poll`; the k-th scale fitted reports within [1 - 2^-k, 1 - 2^-(k+1)) of the fits (how many
+  // scales run depends on what the first ones find).
+  int scales_fitted = 0;
+  std::chrono::steady_clock::time_point last_poll{};  // the first sample the master fits asks
   auto fit_scale = [&](int scale) {
     const int neighbours = int(std::min<std::size_t>(std::size_t(scale), count - 1)) + 1;  // the sample too
     const std::size_t samples =
         std::min({count, kMaxSamples, std::max<std::size_t>(1, kMaxLookupsPerScale / std::size_t(neighbours))});
     std::vector<SampleFit> fits(samples);
+    const double from = 1 - std::ldexp(1.0, -scales_fitted), share = std::ldexp(1.0, -scales_fitted - 1);
+    ++scales_fitted;
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> done{0};
 #pragma omp parallel
     {
       std::vector<std::size_t> ids(static_cast<std::size_t>(neighbours));
       std::vector<double> distances(static_cast<std::size_t>(neighbours));
 #pragma omp for schedule(dynamic, 16)
       for (long long s = 0; s < static_cast<long long>(samples); ++s) {
+        if (stop.load(std::memory_order_relaxed)) continue;
         // Evenly spread, deterministic: sample s is point floor(s N / samples).
         const std::size_t self = std::size_t(s) * count / samples;
         index.nearest_of_point(self, std::size_t(neighbours), ids.data(), distances.data());
         fits[std::size_t(s)] = fit_sample(centred, cloud, self, ids.data(), distances.data(), neighbours);
+        const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
+        if (poll && omp_get_thread_num() == 0 &&
+            std::chrono::steady_clock::now() - last_poll > std::chrono::milliseconds(100)) {
+          last_poll = std::chrono::steady_clock::now();
+          if (!poll(from + share * double(finished) / double(samples))) stop = true;
+        }
       }
     }
+    if (stop) throw Error(ErrorCode::cancelled, "estimate_data: cancelled while fitting the samples");
     fits.erase(std::remove_if(fits.begin(), fits.end(), [](const SampleFit& f) { return !f.ok; }), fits.end());
     return fits;
   };

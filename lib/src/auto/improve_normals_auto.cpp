@@ -81,8 +81,9 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
                                                  std::to_string(normals_out.count) + " rows for " +
                                                  std::to_string(cloud.size()) + " points");
   }
-  // The estimate and the judge's fits (about a second per 100k points) report as one stage, and
-  // a cancel is honoured once they are done; the passes then report as the filter's do.
+  // The estimate and the judge's neighbourhoods (about a second per 100k points) report as one
+  // stage, the fits about every 0.1 s (a cancel honoured there); the passes then report as the
+  // filter's do.
   const auto start = std::chrono::steady_clock::now();
   auto estimate_stage = [&](double fraction) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -93,7 +94,10 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   estimate_stage(0);
   detail::SurfaceJudge judge;
   AutoRun run;
-  run.choice = choose_filter_params(detail::estimate_data(cloud, &judge));
+  run.choice = choose_filter_params(detail::estimate_data(cloud, &judge, [&](double fraction) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return !progress || progress(PassProgress{0, 0, seconds, ProgressStage::estimate, 0.9 * fraction});
+  }));
   estimate_stage(1);
   if (stop_change_deg >= 0) run.choice.params.stop_change_deg = stop_change_deg;
   if (run.choice.params.iterations == 0 || judge.empty()) {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "pnf/auto_params.hpp"
@@ -88,7 +89,10 @@ struct JudgeGeometry {
 };
 JudgeGeometry judge_geometry(const DataEstimate& estimate);
 
-// pnf::estimate_data, also making `judge` (when not null) with judge_geometry's settings.
-DataEstimate estimate_data(const CloudView& cloud, SurfaceJudge* judge);
+// pnf::estimate_data, also making `judge` (when not null) with judge_geometry's settings. `poll`
+// is asked, on the calling thread, about every 0.1 s while the samples are fitted, with a share
+// of the fits done; when it returns false the fits stop and pnf::Error(cancelled) is thrown.
+DataEstimate estimate_data(const CloudView& cloud, SurfaceJudge* judge,
+                           const std::function<bool(double fraction)>& poll = {});
 
 }  // namespace pnf::detail
