@@ -3,6 +3,7 @@
 # and Eigen; neighbour searches go through host/spatial.
 list(APPEND PNF_AUTO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/auto/estimate_data.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/sample_fit.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/choose_filter_params.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/crease_evidence.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/pool_estimates.cpp

@@ -2,7 +2,6 @@
 // parameters is choose_filter_params.cpp). Local quadric fits at a few neighbourhood sizes on a
 // sample of the points give the area spacing, the position noise, the share of samples at an
 // edge, the curved share and the input normals' noise.
-#include <Eigen/Dense>
 #include <omp.h>
 
 #include <algorithm>
@@ -10,26 +9,21 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <limits>
-#include <utility>
 #include <vector>
 
 #include "cloud_checks.hpp"
 #include "crease_evidence.hpp"
-#include "geometry.hpp"
 #include "mean_radius_internal.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
+#include "sample_fit.hpp"
 #include "spatial/spatial_index.hpp"
 #include "spatial/spatial_order.hpp"
 #include "surface_judge.hpp"
 
 namespace pnf {
 namespace {
-
-using geometry::angle_degrees;
-using geometry::kPi;
 
 // Neighbourhood sizes tried, smallest first. Small ones see the fewest sharp edges and the least
 // curvature beyond second order; large ones are needed where the noise is thick against the
@@ -42,11 +36,6 @@ constexpr int kScaleStep = 4;  // each scale's neighbours over the last's
 constexpr std::size_t kMaxLookupsPerScale = 1000000;
 // Never more samples than this at any scale: a median of 4000 is good to about 2%.
 constexpr std::size_t kMaxSamples = 4000;
-// The fitted cylinder has this fraction of the distance to the farthest neighbour as radius.
-// Every point of the cylinder within sqrt(1 - 0.5^2) = 0.87 of that distance above or below the
-// centre is then inside the neighbour ball, so the count in it measures the surface density
-// even when the points are scattered along the normal.
-constexpr double kCylinderFraction = 0.5;
 // A scale is trusted when the noise it measures is below this fraction of its cylinder radius:
 // then the neighbour ball holds the noisy layer whole (more than 5 sigma of margin) and PCA finds
 // the surface's plane. Where noise fills the ball, the fit sees a blob and reports about 0.6 of
@@ -73,16 +62,6 @@ constexpr double kSmoothResidualPerNoise = 1.25;
 // of curvature under 67 spacings). Noise leaves at most about 0.01 per spacing at half a spacing
 // of noise two scales up; planes and polyhedra measured 0-8% curved, the cylinder 71%, fandisk 22-84%.
 constexpr double kCurvedPerSpacing = 0.015;
-// The correlation of the input normals' errors is taken between each sample and the points within
-// this many spacings of it: PCA normals from 16 neighbours (a radius of about 2.3 spacings) share
-// little there, from 64 (4.5 spacings) most of their neighbours.
-constexpr double kCorrelationReachSpacings = 2.5;
-// The positions' own normal at a sample, to which the input normal's error is compared for the
-// coupling: PCA over this many nearest points (the sample included), the smallest common PCA
-// neighbourhood, whose error is mostly the noise of the positions near the sample.
-constexpr int kCouplingNeighbours = 16;
-// A quadric has 6 coefficients; ask for twice as many points for a stable residual.
-constexpr int kMinFitPoints = 12;
 // DataEstimate::normal_crease_length: a fit sees a crease in the input normals where their mean
 // error about it (over the sample and its points within kCorrelationReachSpacings) passes this
 // many times the median of the same over all fits, and this many degrees. Averaging some 20
@@ -106,173 +85,11 @@ detail::CloudRequirements estimate_requirements() {
   return requirements;
 }
 
-// One sample's fit at one scale.
-struct SampleFit {
-  bool ok = false;
-  double area_spacing = 0;  // sqrt(pi rho^2 / count in the cylinder)
-  double residual = 0;    // RMS distance to the quadric, corrected for the 6 fitted coefficients
-  double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
-  double radius = 0;      // rho
-  double curvature = 0;   // the quadric's largest principal curvature magnitude, 1 / model units
-  // Sums over the points within kCorrelationReachSpacings of the sample, of e_sample . e_point
-  // and |e_sample| |e_point|, e being an input normal minus the quadric's normal at that point.
-  double error_dot = 0;
-  double error_magnitudes = 0;
-  // e_input . e_positions, |e_input|^2 and |e_positions|^2 at the sample: e_input its input normal
-  // minus the quadric's, e_positions a PCA normal of its kCouplingNeighbours nearest points minus
-  // the quadric's (for DataEstimate::normal_position_coupling).
-  double coupling_dot = 0;
-  double coupling_input_squared = 0;
-  double coupling_positions_squared = 0;
-  // The mean over the sample and the points within kCorrelationReachSpacings of it of their input
-  // normal minus the quadric's normal there, as an angle (degrees): small where the errors are
-  // random, as large as the bend where a crease turns the input normals away from a quadric
-  // that bends through it.
-  double local_angle_deg = -1;
-};
-
 double median(std::vector<double> values) {
   if (values.empty()) return 0;
   auto middle = values.begin() + values.size() / 2;
   std::nth_element(values.begin(), middle, values.end());
   return *middle;
-}
-
-// The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` (PCA), on
-// the side of `side`; zero when fewer points are there or they span no plane.
-Eigen::Vector3d nearest_points_normal(const std::vector<Eigen::Vector3d>& offsets, const double* squared_distances,
-                                      int count, const Eigen::Vector3d& side) {
-  if (count < kCouplingNeighbours) return Eigen::Vector3d::Zero();
-  std::vector<int> order(static_cast<std::size_t>(count));
-  for (int k = 0; k < count; ++k) order[std::size_t(k)] = k;
-  std::nth_element(order.begin(), order.begin() + (kCouplingNeighbours - 1), order.end(),
-                   [&](int a, int b) { return squared_distances[a] < squared_distances[b]; });
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int k = 0; k < kCouplingNeighbours; ++k) centroid += offsets[std::size_t(order[std::size_t(k)])];
-  centroid /= double(kCouplingNeighbours);
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (int k = 0; k < kCouplingNeighbours; ++k) {
-    const Eigen::Vector3d o = offsets[std::size_t(order[std::size_t(k)])] - centroid;
-    covariance += o * o.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  if (!(eigen.eigenvalues()(1) > 0)) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
-  return normal.dot(side) < 0 ? Eigen::Vector3d(-normal) : normal;
-}
-
-// Fits the neighbourhood `ids` (the sample itself included) of sample `self`: a PCA frame, then
-// a quadric height field w(u, v) over the points of the cylinder of radius
-// kCylinderFraction * (distance to the farthest neighbour) around the frame's axis through the
-// sample. The cylinder is symmetric about the sample, so the quadric's slope there is not biased
-// by curvature (the even terms are orthogonal to the odd ones). With normals, also compares the
-// input normals with the quadric's: at the sample (angle_deg) and, for the correlation of the
-// errors, at the points near it; and with a PCA normal of the nearest points (the coupling).
-SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
-                     const std::size_t* ids, const double* squared_distances, int count) {
-  SampleFit fit;
-  const Eigen::Vector3d origin(centred[self * 3], centred[self * 3 + 1], centred[self * 3 + 2]);
-  std::vector<Eigen::Vector3d> offsets(static_cast<std::size_t>(count));
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  double farthest_squared = 0;
-  for (int k = 0; k < count; ++k) {
-    const std::size_t id = ids[k];
-    offsets[std::size_t(k)] = Eigen::Vector3d(centred[id * 3], centred[id * 3 + 1], centred[id * 3 + 2]) - origin;
-    centroid += offsets[std::size_t(k)];
-    farthest_squared = std::max(farthest_squared, squared_distances[k]);  // FLANN's L2 is squared
-  }
-  centroid /= double(count);
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& o : offsets) covariance += (o - centroid) * (o - centroid).transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
-  const Eigen::Vector3d t1 = eigen.eigenvectors().col(2);
-  const Eigen::Vector3d t2 = normal.cross(t1);
-  const double rho = kCylinderFraction * std::sqrt(farthest_squared);
-  if (!(rho > 0) || !(eigen.eigenvalues()(1) > 0)) return fit;
-
-  // Least squares in coordinates relative to the sample, scaled by rho (well conditioned at any
-  // model scale).
-  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<Eigen::Vector3d> local;
-  local.reserve(offsets.size());
-  for (const Eigen::Vector3d& o : offsets) {
-    const double u = o.dot(t1) / rho, v = o.dot(t2) / rho;
-    if (u * u + v * v > 1.0) continue;
-    const double w = o.dot(normal) / rho;
-    local.emplace_back(u, v, w);
-    Eigen::Matrix<double, 6, 1> row;
-    row << 1, u, v, u * u, u * v, v * v;
-    normal_matrix += row * row.transpose();
-    rhs += row * w;
-  }
-  const int fitted = int(local.size());
-  if (fitted < kMinFitPoints) return fit;
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver = normal_matrix.ldlt();
-  const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
-  double rss = 0;
-  for (const Eigen::Vector3d& q : local) {
-    const double model =
-        c(0) + c(1) * q.x() + c(2) * q.y() + c(3) * q.x() * q.x() + c(4) * q.x() * q.y() + c(5) * q.y() * q.y();
-    rss += (q.z() - model) * (q.z() - model);
-  }
-  fit.ok = std::isfinite(rss);
-  fit.radius = rho;
-  fit.residual = rho * std::sqrt(rss / double(fitted - 6));
-  fit.area_spacing = std::sqrt(kPi * rho * rho / double(fitted));
-  {
-    // Hessian of the height field in model units: the fit is in units of rho.
-    const double a = 2 * c(3) / rho, b = c(4) / rho, d = 2 * c(5) / rho;
-    fit.curvature = std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
-  }
-  if (cloud.has_normals()) {
-    // The quadric's unit normal at (u, v) (in units of rho), and the input normal of point `id`
-    // as a unit vector on the same side, or zero when it has no direction.
-    auto surface_at = [&](double u, double v) {
-      return (normal - (c(1) + 2 * c(3) * u + c(4) * v) * t1 - (c(2) + c(4) * u + 2 * c(5) * v) * t2).normalized();
-    };
-    auto input_towards = [&](std::size_t id, const Eigen::Vector3d& side) -> Eigen::Vector3d {
-      const Vec3 n = cloud.normals.at(id);
-      const Eigen::Vector3d input(n[0], n[1], n[2]);
-      const double length = input.norm();
-      if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
-      return input.dot(side) < 0 ? Eigen::Vector3d(-input / length) : Eigen::Vector3d(input / length);
-    };
-    const Eigen::Vector3d surface = surface_at(0, 0);
-    const Eigen::Vector3d input = input_towards(self, surface);
-    if (input.squaredNorm() > 0) {
-      fit.angle_deg = angle_degrees({surface.x(), surface.y(), surface.z()}, {input.x(), input.y(), input.z()});
-      const Eigen::Vector3d error = input - surface;
-      const Eigen::Vector3d from_positions = nearest_points_normal(offsets, squared_distances, count, surface);
-      if (from_positions.squaredNorm() > 0) {
-        const Eigen::Vector3d positions_error = from_positions - surface;
-        fit.coupling_dot = error.dot(positions_error);
-        fit.coupling_input_squared = error.squaredNorm();
-        fit.coupling_positions_squared = positions_error.squaredNorm();
-      }
-      const double reach = kCorrelationReachSpacings * fit.area_spacing;
-      Eigen::Vector3d local_error = error;
-      int local_count = 1;
-      for (int k = 0; k < count; ++k) {
-        if (ids[k] == self) continue;
-        const Eigen::Vector3d& o = offsets[std::size_t(k)];
-        const double u = o.dot(t1), v = o.dot(t2);
-        if (u * u + v * v > reach * reach) continue;
-        const Eigen::Vector3d there = surface_at(u / rho, v / rho);
-        const Eigen::Vector3d other = input_towards(ids[k], there);
-        if (other.squaredNorm() == 0) continue;
-        fit.error_dot += error.dot(other - there);
-        fit.error_magnitudes += error.norm() * (other - there).norm();
-        local_error += other - there;
-        ++local_count;
-      }
-      // |a - b| = 2 sin(angle / 2) for unit vectors a, b.
-      const double chord = std::min(2.0, local_error.norm() / double(local_count));
-      fit.local_angle_deg = 2 * std::asin(0.5 * chord) * 180 / kPi;
-    }
-  }
-  return fit;
 }
 
 }  // namespace

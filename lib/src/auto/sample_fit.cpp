@@ -1,0 +1,166 @@
+#include "sample_fit.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "geometry.hpp"
+
+namespace pnf::detail {
+namespace {
+
+using geometry::angle_degrees;
+using geometry::kPi;
+
+// The fitted cylinder has this fraction of the distance to the farthest neighbour as radius.
+// Every point of the cylinder within sqrt(1 - 0.5^2) = 0.87 of that distance above or below the
+// centre is then inside the neighbour ball, so the count in it measures the surface density
+// even when the points are scattered along the normal.
+constexpr double kCylinderFraction = 0.5;
+
+// The correlation of the input normals' errors is taken between each sample and the points within
+// this many spacings of it: PCA normals from 16 neighbours (a radius of about 2.3 spacings) share
+// little there, from 64 (4.5 spacings) most of their neighbours.
+constexpr double kCorrelationReachSpacings = 2.5;
+
+// The positions' own normal at a sample, to which the input normal's error is compared for the
+// coupling: PCA over this many nearest points (the sample included), the smallest common PCA
+// neighbourhood, whose error is mostly the noise of the positions near the sample.
+constexpr int kCouplingNeighbours = 16;
+
+// A quadric has 6 coefficients; ask for twice as many points for a stable residual.
+constexpr int kMinFitPoints = 12;
+
+// The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` (PCA), on
+// the side of `side`; zero when fewer points are there or they span no plane.
+Eigen::Vector3d nearest_points_normal(const std::vector<Eigen::Vector3d>& offsets, const double* squared_distances,
+                                      int count, const Eigen::Vector3d& side) {
+  if (count < kCouplingNeighbours) return Eigen::Vector3d::Zero();
+  std::vector<int> order(static_cast<std::size_t>(count));
+  for (int k = 0; k < count; ++k) order[std::size_t(k)] = k;
+  std::nth_element(order.begin(), order.begin() + (kCouplingNeighbours - 1), order.end(),
+                   [&](int a, int b) { return squared_distances[a] < squared_distances[b]; });
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k = 0; k < kCouplingNeighbours; ++k) centroid += offsets[std::size_t(order[std::size_t(k)])];
+  centroid /= double(kCouplingNeighbours);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < kCouplingNeighbours; ++k) {
+    const Eigen::Vector3d o = offsets[std::size_t(order[std::size_t(k)])] - centroid;
+    covariance += o * o.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  if (!(eigen.eigenvalues()(1) > 0)) return Eigen::Vector3d::Zero();
+  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  return normal.dot(side) < 0 ? Eigen::Vector3d(-normal) : normal;
+}
+
+}  // namespace
+
+SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
+                     const std::size_t* ids, const double* squared_distances, int count) {
+  SampleFit fit;
+  const Eigen::Vector3d origin(centred[self * 3], centred[self * 3 + 1], centred[self * 3 + 2]);
+  std::vector<Eigen::Vector3d> offsets(static_cast<std::size_t>(count));
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double farthest_squared = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::size_t id = ids[k];
+    offsets[std::size_t(k)] = Eigen::Vector3d(centred[id * 3], centred[id * 3 + 1], centred[id * 3 + 2]) - origin;
+    centroid += offsets[std::size_t(k)];
+    farthest_squared = std::max(farthest_squared, squared_distances[k]);  // FLANN's L2 is squared
+  }
+  centroid /= double(count);
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& o : offsets) covariance += (o - centroid) * (o - centroid).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  const Eigen::Vector3d t1 = eigen.eigenvectors().col(2);
+  const Eigen::Vector3d t2 = normal.cross(t1);
+  const double rho = kCylinderFraction * std::sqrt(farthest_squared);
+  if (!(rho > 0) || !(eigen.eigenvalues()(1) > 0)) return fit;
+
+  // Least squares in coordinates relative to the sample, scaled by rho (well conditioned at any
+  // model scale).
+  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  std::vector<Eigen::Vector3d> local;
+  local.reserve(offsets.size());
+  for (const Eigen::Vector3d& o : offsets) {
+    const double u = o.dot(t1) / rho, v = o.dot(t2) / rho;
+    if (u * u + v * v > 1.0) continue;
+    const double w = o.dot(normal) / rho;
+    local.emplace_back(u, v, w);
+    Eigen::Matrix<double, 6, 1> row;
+    row << 1, u, v, u * u, u * v, v * v;
+    normal_matrix += row * row.transpose();
+    rhs += row * w;
+  }
+  const int fitted = int(local.size());
+  if (fitted < kMinFitPoints) return fit;
+  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver = normal_matrix.ldlt();
+  const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
+  double rss = 0;
+  for (const Eigen::Vector3d& q : local) {
+    const double model =
+        c(0) + c(1) * q.x() + c(2) * q.y() + c(3) * q.x() * q.x() + c(4) * q.x() * q.y() + c(5) * q.y() * q.y();
+    rss += (q.z() - model) * (q.z() - model);
+  }
+  fit.ok = std::isfinite(rss);
+  fit.radius = rho;
+  fit.residual = rho * std::sqrt(rss / double(fitted - 6));
+  fit.area_spacing = std::sqrt(kPi * rho * rho / double(fitted));
+  {
+    // Hessian of the height field in model units: the fit is in units of rho.
+    const double a = 2 * c(3) / rho, b = c(4) / rho, d = 2 * c(5) / rho;
+    fit.curvature = std::abs(0.5 * (a + d)) + std::sqrt(0.25 * (a - d) * (a - d) + b * b);
+  }
+  if (cloud.has_normals()) {
+    // The quadric's unit normal at (u, v) (in units of rho), and the input normal of point `id`
+    // as a unit vector on the same side, or zero when it has no direction.
+    auto surface_at = [&](double u, double v) {
+      return (normal - (c(1) + 2 * c(3) * u + c(4) * v) * t1 - (c(2) + c(4) * u + 2 * c(5) * v) * t2).normalized();
+    };
+    auto input_towards = [&](std::size_t id, const Eigen::Vector3d& side) -> Eigen::Vector3d {
+      const Vec3 n = cloud.normals.at(id);
+      const Eigen::Vector3d input(n[0], n[1], n[2]);
+      const double length = input.norm();
+      if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
+      return input.dot(side) < 0 ? Eigen::Vector3d(-input / length) : Eigen::Vector3d(input / length);
+    };
+    const Eigen::Vector3d surface = surface_at(0, 0);
+    const Eigen::Vector3d input = input_towards(self, surface);
+    if (input.squaredNorm() > 0) {
+      fit.angle_deg = angle_degrees({surface.x(), surface.y(), surface.z()}, {input.x(), input.y(), input.z()});
+      const Eigen::Vector3d error = input - surface;
+      const Eigen::Vector3d from_positions = nearest_points_normal(offsets, squared_distances, count, surface);
+      if (from_positions.squaredNorm() > 0) {
+        const Eigen::Vector3d positions_error = from_positions - surface;
+        fit.coupling_dot = error.dot(positions_error);
+        fit.coupling_input_squared = error.squaredNorm();
+        fit.coupling_positions_squared = positions_error.squaredNorm();
+      }
+      const double reach = kCorrelationReachSpacings * fit.area_spacing;
+      Eigen::Vector3d local_error = error;
+      int local_count = 1;
+      for (int k = 0; k < count; ++k) {
+        if (ids[k] == self) continue;
+        const Eigen::Vector3d& o = offsets[std::size_t(k)];
+        const double u = o.dot(t1), v = o.dot(t2);
+        if (u * u + v * v > reach * reach) continue;
+        const Eigen::Vector3d there = surface_at(u / rho, v / rho);
+        const Eigen::Vector3d other = input_towards(ids[k], there);
+        if (other.squaredNorm() == 0) continue;
+        fit.error_dot += error.dot(other - there);
+        fit.error_magnitudes += error.norm() * (other - there).norm();
+        local_error += other - there;
+        ++local_count;
+      }
+      // |a - b| = 2 sin(angle / 2) for unit vectors a, b.
+      const double chord = std::min(2.0, local_error.norm() / double(local_count));
+      fit.local_angle_deg = 2 * std::asin(0.5 * chord) * 180 / kPi;
+    }
+  }
+  return fit;
+}
+
+}  // namespace pnf::detail
