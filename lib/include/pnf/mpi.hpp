@@ -63,10 +63,11 @@ DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, Mutabl
                                    const FilterParams& params = {}, const FilterOptions& options = {},
                                    const ProgressCallback& progress = {});
 
-// `pnf filter --auto` across the ranks (docs/auto.md): each rank estimates the data on the points
-// it holds, the estimates are pooled (pool_estimates) with the one process's mean radius, and the
-// rule applies. Returns the same AutoChoice on every rank; pass its params to improve_normals.
-// Collective; throws pnf::Error on every rank alike when any rank fails, as improve_normals does.
+// `pnf filter --auto`'s choice across the ranks (docs/auto.md): every rank's points are gathered
+// on rank 0 in rank order, which estimates and applies the rule as one process does on the
+// concatenation of the ranks' rows; the same AutoChoice, one process's, on every rank. Rank 0
+// holds the whole cloud meanwhile. Collective; throws pnf::Error on every rank alike when any
+// rank fails, as improve_normals does.
 AutoChoice choose_filter_params(MPI_Comm comm, const CloudView& local);
 
 // What improve_normals_auto across the ranks did: the same on every rank but summary.local.
@@ -77,12 +78,12 @@ struct DistributedAutoRun {
   std::vector<double> judged_rms_deg;  // the judge's RMS after each pass, all settings tried
 };
 
-// `pnf filter --auto` across the ranks, as one process's improve_normals_auto (pnf/auto_params.hpp)
-// does it: the rule on the pooled estimate (as choose_filter_params above), then the passes,
-// judged on every rank's samples against its own points and halo, the ranks' sums added, so all
-// ranks keep the same pass. Writes this rank's N_r unit normals. Numbers can differ slightly
-// from one process's (the pooled estimate and the judge's samples are per rank; docs/mpi.md). A stop_change_deg >= 0 replaces the rule's stop rule.
-// Collective; throws as improve_normals does.
+// `pnf filter --auto` across the ranks: one process's improve_normals_auto (pnf/auto_params.hpp)
+// on the concatenation of the ranks' rows, bit for bit: the choice as choose_filter_params above,
+// then the passes across the ranks, each scored by rank 0's judge on the whole cloud's normals
+// (32 bytes a point gathered a pass), so all ranks keep one process's pass. Writes this rank's
+// N_r unit normals. A stop_change_deg >= 0 replaces the rule's stop rule. Collective; throws as
+// improve_normals does.
 DistributedAutoRun improve_normals_auto(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                         const FilterOptions& options = {}, const ProgressCallback& progress = {},
                                         double stop_change_deg = -1);

@@ -20,8 +20,10 @@ std::string number(double value) {
   return text;
 }
 
-// The normals as unit rows, N by 3 (a zero normal is refused by the filter, which runs first).
-std::vector<double> unit_rows(const Vec3ArrayView& normals) {
+}  // namespace
+
+// A zero normal is refused by the filter, which runs first.
+std::vector<double> detail::unit_rows(const Vec3ArrayView& normals) {
   std::vector<double> rows(3 * normals.count);
   for (std::size_t i = 0; i < normals.count; ++i) {
     const Vec3 n = normals.at(i);
@@ -30,8 +32,6 @@ std::vector<double> unit_rows(const Vec3ArrayView& normals) {
   }
   return rows;
 }
-
-}  // namespace
 
 std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
   std::vector<FilterParams> candidates = {choice.params};
@@ -107,7 +107,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   }
   const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
   // A copy: normals_out may be the cloud's own normals.
-  std::vector<double> best = unit_rows(cloud.normals);
+  std::vector<double> best = detail::unit_rows(cloud.normals);
   if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(best.data());
   const double input_rms = judge.rms_deg(best.data());
   const double own_error = judge.own_error_deg(best.data());

@@ -82,11 +82,10 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
 
 }  // namespace
 
-SurfaceJudge::SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width,
-                           std::size_t among)
+SurfaceJudge::SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width)
     : width_(width) {
   const std::vector<double>& centred = index.positions();
-  const std::size_t points = centred.size() / 3, count = std::min(among, points);
+  const std::size_t points = centred.size() / 3, count = points;
   neighbours_ = int(std::min<std::size_t>(std::size_t(std::max(neighbours, 0)), points));
   scored_ = neighbours_;
   samples = std::min(samples, count);

@@ -25,13 +25,12 @@ class SpatialIndex;
 class SurfaceJudge {
  public:
   SurfaceJudge() = default;
-  // Samples `samples` points spread evenly through the index's first `among` points (point
-  // floor(s among / samples); all of them by default), each with its `neighbours` nearest points
-  // (the sample included); `width` is the weight's width on the residual (model units). The
-  // index must keep the cloud's order (SpatialIndex::Layout::any_order), as the normals judged
-  // later come in it.
-  SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width,
-               std::size_t among = std::size_t(-1));
+  // Samples `samples` points spread evenly through the index's points (point floor(s N /
+  // samples)), each with its `neighbours` nearest points (the sample included); `width` is the
+  // weight's width on the residual (model units). The index must keep the cloud's order
+  // (SpatialIndex::Layout::any_order), as the normals judged later come in it. A distributed
+  // run builds it on rank 0 over the whole cloud (lib/src/mpi/choose_filter_params_mpi.cpp).
+  SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width);
 
   bool empty() const { return ids_.empty(); }
   std::size_t size() const { return ids_.size(); }
@@ -41,9 +40,7 @@ class SurfaceJudge {
   int scored() const { return scored_; }
   // Scores at the scale, of the two (all the neighbours, or their nearest quarter), whose own
   // error (own_error_deg) is the smaller in the frames of `normals_xyz`: the larger one averages
-  // noise better, the smaller one follows detail finer than the larger one's neighbourhood. A
-  // distributed run decides on the ranks' added Sums instead: scales_of(), score_with() and
-  // quarter_is_better().
+  // noise better, the smaller one follows detail finer than the larger one's neighbourhood.
   void choose_scale(const double* normals_xyz);
   // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
   static std::vector<int> scales_of(int neighbours);
@@ -51,8 +48,6 @@ class SurfaceJudge {
   // The RMS over the samples of the angle (degrees) between each sample's normal in `normals_xyz`
   // (N by 3, the cloud's order) and the normal of the surface fitted in its frame.
   double rms_deg(const double* normals_xyz) const;
-  // The sum over the samples of that angle squared (radians^2): a distributed run adds the ranks'.
-  double sum_squared(const double* normals_xyz) const;
   // The judge's own error (degrees, RMS over the samples), in the frames of `normals_xyz`: the
   // noise of its fits (the slope's standard error from the weighted residuals), and the bias that
   // shows as the fits moving between this scale and the next one down (the nearest quarter of
@@ -69,6 +64,9 @@ class SurfaceJudge {
   static bool quarter_is_better(const Sums& whole, const Sums& quarter);
 
  private:
+  // The sum over the samples of the judged angle squared (radians^2).
+  double sum_squared(const double* normals_xyz) const;
+
   std::vector<std::size_t> ids_;
   std::vector<double> offsets_;  // per sample, `neighbours_` rows of x y z from the sample
   int neighbours_ = 0, scored_ = 0;
@@ -76,7 +74,7 @@ class SurfaceJudge {
 };
 
 // The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside
-// the fits' constants it derives from): the same for one process and a distributed run.
+// the fits' constants it derives from).
 struct JudgeGeometry {
   std::size_t samples = 0;  // over the whole cloud
   int neighbours = 0;       // the sample included

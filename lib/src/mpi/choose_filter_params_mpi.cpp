@@ -1,121 +1,166 @@
-// pnf::mpi::choose_filter_params: --auto across the ranks (pnf/mpi.hpp).
-#include <cmath>
+// pnf::mpi::choose_filter_params: --auto across the ranks (pnf/mpi.hpp), as one process chooses.
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "agreement.hpp"
-#include "mean_radius_mpi.hpp"
+#include "auto/judged_passes.hpp"
+#include "auto/surface_judge.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
-#include "partition.hpp"
 #include "pnf/auto_params.hpp"
 #include "pnf/mpi.hpp"
 
 namespace pnf::mpi {
 namespace {
 
-// Each rank estimates the data on its own slice (a few hundred fitted samples each, so every
-// rank's part of the model has its say); every rank gets all the estimates and pools them
-// (pnf::pool_estimates). A slice that cannot be estimated (too few points, or all on a line)
-// counts only its points; when that is every slice, each rank says why its own failed.
-DataEstimate pooled_estimate(MPI_Comm comm, const CloudView& local) {
-  DataEstimate e;
-  e.points = local.size();
-  std::string why_not;
-  try {
-    if (local.size() > 0) e = estimate_data(local);
-  } catch (const Error& error) {
-    e = DataEstimate{};
-    e.points = local.size();
-    why_not = error.what();
-  }
-  // Every field as a double (all of them are exact in one: counts stay far below 2^53).
-  constexpr int kFields = 18;
-  const double mine[kFields] = {double(e.points),
-                                double(e.samples),
-                                e.mean_radius,
-                                double(int(e.radius_source)),
-                                e.area_spacing,
-                                e.position_noise,
-                                e.normal_noise_deg,
-                                double(e.fit_neighbours),
-                                e.fit_radius,
-                                e.feature_share,
-                                e.crease_length,
-                                double(e.edge_samples),
-                                double(e.feature_samples),
-                                e.curved_share,
-                                e.normal_error_correlation,
-                                e.normal_position_coupling,
-                                e.crease_sharpness,
-                                e.normal_crease_length};
-  int ranks = 1;
+// Every rank's rows on rank 0, in rank order: the cloud one process would read (the
+// concatenation of the ranks' inputs), so rank 0's estimate is one process's, bit for bit; empty
+// on the other ranks.
+std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  std::vector<double> all(std::size_t(ranks) * kFields);
-  MPI_Allgather(mine, kFields, MPI_DOUBLE, all.data(), kFields, MPI_DOUBLE, comm);
-  std::vector<DataEstimate> parts(static_cast<std::size_t>(ranks));
-  bool any_samples = false;
-  std::size_t points = 0;
-  for (int r = 0; r < ranks; ++r) {
-    const double* f = all.data() + std::size_t(r) * kFields;
-    DataEstimate& p = parts[std::size_t(r)];
-    p.points = std::size_t(f[0]);
-    p.samples = std::size_t(f[1]);
-    p.mean_radius = f[2];
-    p.radius_source = RadiusSource(int(f[3]));
-    p.area_spacing = f[4];
-    p.position_noise = f[5];
-    p.normal_noise_deg = f[6];
-    p.fit_neighbours = int(f[7]);
-    p.fit_radius = f[8];
-    p.feature_share = f[9];
-    p.crease_length = f[10];
-    p.edge_samples = std::size_t(f[11]);
-    p.feature_samples = std::size_t(f[12]);
-    p.curved_share = f[13];
-    p.normal_error_correlation = f[14];
-    p.normal_position_coupling = f[15];
-    p.crease_sharpness = f[16];
-    p.normal_crease_length = f[17];
-    any_samples = any_samples || p.samples > 0;
-    points += p.points;
-  }
-  if (!any_samples) {  // pool_estimates would refuse too; say it in the CLI's terms, with the cause
-    const std::string message = "--auto: no rank could estimate the data (" + std::to_string(ranks) + " ranks, " +
-                                std::to_string(points) + " points)";
-    if (!why_not.empty()) {
-      throw Error(ErrorCode::invalid_input,
-                  message + "; this rank's " + std::to_string(local.size()) + " points: " + why_not);
+  const long long count = static_cast<long long>(mine.size());
+  std::vector<long long> counts(static_cast<std::size_t>(ranks));
+  detail::check_mpi(MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, comm), "MPI_Gather");
+  std::vector<double> all;
+  std::vector<int> sizes(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
+  if (rank == 0) {
+    long long total = 0;
+    for (int r = 0; r < ranks; ++r) {
+      // MPI counts are ints: past 2^31 values (about 350M points with normals) this gather
+      // would need to go in pieces.
+      if (total + counts[std::size_t(r)] > 2147483647LL) {
+        throw Error(ErrorCode::invalid_input, "--auto across ranks gathers the cloud on rank 0 for its choice, "
+                                              "and over 2^31 values do not fit one MPI gather");
+      }
+      offsets[std::size_t(r)] = int(total);
+      sizes[std::size_t(r)] = int(counts[std::size_t(r)]);
+      total += counts[std::size_t(r)];
     }
-    if (points == 0) throw Error(ErrorCode::invalid_input, message);
-    // A rank with points failed and throws its cause; the caller's agreement ends this rank too.
-    return DataEstimate{};
+    all.resize(std::size_t(total));
   }
-  return pool_estimates(parts);
+  detail::check_mpi(MPI_Gatherv(mine.data(), int(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(),
+                                MPI_DOUBLE, 0, comm),
+                    "MPI_Gatherv");
+  return all;
 }
 
-// The one process's mean radius (the radius property's mean, or the estimate over the same
-// samples), which the pooled estimate only approximates.
-double one_process_mean_radius(MPI_Comm comm, const CloudView& local, RadiusSource& source) {
-  const detail::GlobalFrame frame = detail::global_frame(comm, local.positions);
-  std::size_t moved = 0;
-  const detail::OwnedPoints owned = detail::distribute(comm, local, frame, moved);
-  FilterParams params;  // units radius, mean radius not given: resolved from the points
-  return detail::resolve_mean_radius(comm, local, owned, frame, params, source);
+std::vector<double> rows_of(const Vec3ArrayView& view) {
+  std::vector<double> rows(3 * view.count);
+  for (std::size_t i = 0; i < view.count; ++i) {
+    const Vec3 v = view.at(i);
+    for (int c = 0; c < 3; ++c) rows[3 * i + c] = v[c];
+  }
+  return rows;
+}
+
+// Sends rank 0's choice to every rank: each number as a double (counts stay far below 2^53),
+// the rule's text after them.
+void broadcast(MPI_Comm comm, AutoChoice& c) {
+  DataEstimate& e = c.estimate;
+  FilterParams& p = c.params;
+  double f[25] = {double(e.points),
+                  double(e.samples),
+                  e.mean_radius,
+                  double(int(e.radius_source)),
+                  e.area_spacing,
+                  e.position_noise,
+                  e.normal_noise_deg,
+                  double(e.fit_neighbours),
+                  e.fit_radius,
+                  e.feature_share,
+                  e.crease_length,
+                  double(e.edge_samples),
+                  double(e.feature_samples),
+                  e.curved_share,
+                  e.normal_error_correlation,
+                  e.normal_position_coupling,
+                  e.crease_sharpness,
+                  e.normal_crease_length,
+                  p.sigma_f,
+                  p.sigma_g,
+                  double(p.iterations),
+                  p.stop_change_deg,
+                  double(int(p.units)),
+                  p.mean_radius,
+                  double(c.rule.size())};
+  detail::check_mpi(MPI_Bcast(f, 25, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  e.points = std::size_t(f[0]);
+  e.samples = std::size_t(f[1]);
+  e.mean_radius = f[2];
+  e.radius_source = RadiusSource(int(f[3]));
+  e.area_spacing = f[4];
+  e.position_noise = f[5];
+  e.normal_noise_deg = f[6];
+  e.fit_neighbours = int(f[7]);
+  e.fit_radius = f[8];
+  e.feature_share = f[9];
+  e.crease_length = f[10];
+  e.edge_samples = std::size_t(f[11]);
+  e.feature_samples = std::size_t(f[12]);
+  e.curved_share = f[13];
+  e.normal_error_correlation = f[14];
+  e.normal_position_coupling = f[15];
+  e.crease_sharpness = f[16];
+  e.normal_crease_length = f[17];
+  p.sigma_f = f[18];
+  p.sigma_g = f[19];
+  p.iterations = int(f[20]);
+  p.stop_change_deg = f[21];
+  p.units = Units(int(f[22]));
+  p.mean_radius = f[23];
+  c.rule.resize(std::size_t(f[24]));
+  detail::check_mpi(MPI_Bcast(c.rule.data(), int(c.rule.size()), MPI_CHAR, 0, comm), "MPI_Bcast");
 }
 
 }  // namespace
 
-AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const CloudView& local) {
-  DataEstimate estimate;
-  agree.run([&] { estimate = pooled_estimate(comm, local); });
-  RadiusSource source = RadiusSource::not_used;
-  double mean_radius = 0;
-  agree.run([&] { mean_radius = one_process_mean_radius(comm, local, source); });
-  estimate.mean_radius = mean_radius;
-  estimate.radius_source = source;
+AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const CloudView& local, RootJudge* root) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  // The whole cloud on rank 0, as one process would read it: the estimate (and the judge) there
+  // are one process's, whatever the ranks and their slices.
+  std::vector<double> positions, normals, radii;
+  agree.run([&] {
+    positions = gather_rows(comm, rows_of(local.positions));
+    normals = gather_rows(comm, rows_of(local.normals));
+    std::vector<double> my_radii;
+    if (local.has_radii()) {
+      for (std::size_t i = 0; i < local.size(); ++i) my_radii.push_back(local.radii.get(i));
+    }
+    radii = gather_rows(comm, my_radii);
+  });
   AutoChoice choice;
-  agree.run([&] { choice = choose_filter_params(estimate); });
+  agree.run([&] {
+    if (rank != 0) return;
+    const std::size_t n = positions.size() / 3;
+    if (!normals.empty() && normals.size() != positions.size()) {
+      throw Error(ErrorCode::invalid_input, "--auto: some ranks' points have normals and others' do not");
+    }
+    if (!radii.empty() && radii.size() != n) {
+      throw Error(ErrorCode::invalid_input, "--auto: some ranks' points have radii and others' do not");
+    }
+    const CloudView whole(Vec3ArrayView(positions.data(), n),
+                          normals.empty() ? Vec3ArrayView() : Vec3ArrayView(normals.data(), n),
+                          radii.empty() ? ScalarArrayView() : ScalarArrayView(radii));
+    pnf::detail::SurfaceJudge judge;
+    choice = choose_filter_params(pnf::detail::estimate_data(whole, root ? &judge : nullptr));
+    if (root) {
+      root->judge = std::move(judge);
+      root->input_normals = pnf::detail::unit_rows(whole.normals);
+      if (pnf::detail::judge_geometry(choice.estimate).quarter_allowed) {
+        root->judge.choose_scale(root->input_normals.data());
+      }
+    }
+  });
+  broadcast(comm, choice);
+  if (root) {
+    int empty = rank == 0 ? int(root->judge.empty()) : 1;
+    detail::check_mpi(MPI_Bcast(&empty, 1, MPI_INT, 0, comm), "MPI_Bcast");
+    root->empty = empty != 0;
+  }
   return choice;
 }
 
@@ -123,7 +168,7 @@ AutoChoice choose_filter_params(MPI_Comm caller_comm, const CloudView& local) {
   detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
-  return detail::rule_choice(comm, agree, local);
+  return detail::rule_choice(comm, agree, local, nullptr);
 }
 
 }  // namespace pnf::mpi

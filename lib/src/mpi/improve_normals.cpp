@@ -5,64 +5,64 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "agreement.hpp"
+#include "auto/judged_passes.hpp"
 #include "device_choice.hpp"
 #include "filter_engine.hpp"
 #include "filter_plan.hpp"
 #include "halo.hpp"
-#include "geometry.hpp"
-#include "auto/judged_passes.hpp"
 #include "judged_run.hpp"
 #include "mean_radius_mpi.hpp"
 #include "own_comm.hpp"
 #include "partition.hpp"
 #include "rank_cloud_check.hpp"
-#include "spatial/spatial_index.hpp"
 
 namespace pnf::mpi {
 namespace {
 
-// A distributed run's judged passes (improve_normals_auto across ranks): each rank judges the
-// samples among its own points, against its points and halo, and the ranks' sums are added, so
-// every rank sees the same RMS and takes the same decisions. Each keeps its own points' normals
-// of the best pass so far (the input first).
+// A distributed run's judged passes (improve_normals_auto across ranks), scored as one process
+// scores them: rank 0 holds the judge over the whole cloud (RootJudge); after each pass every
+// rank sends it its points' new normals (with their global ids, the rows of the whole cloud),
+// rank 0 scores them and every rank gets the score, so all take one process's decisions. Each
+// rank keeps its own points' normals of the best pass so far (the input first).
 class JudgedPasses {
  public:
-  JudgedPasses(MPI_Comm comm, detail::PassJudging& judging, const CloudView& view, std::size_t owned,
-               std::size_t total)
-      : comm_(comm), judging_(judging), owned_(owned) {
-    std::vector<double> positions(3 * view.size());
-    for (std::size_t i = 0; i < view.size(); ++i) {
-      const Vec3 p = view.positions.at(i);
-      for (int c = 0; c < 3; ++c) positions[3 * i + c] = p[c];
-    }
-    const std::size_t samples =
-        total > 0 ? (judging.geometry.samples * owned + total - 1) / total : 0;  // this rank's share
-    const pnf::detail::SpatialIndex index(std::move(positions), pnf::detail::SpatialIndex::Layout::any_order);
-    judge_ = pnf::detail::SurfaceJudge(index, samples, judging.geometry.neighbours, judging.geometry.width, owned);
+  JudgedPasses(MPI_Comm comm, detail::PassJudging& judging, const CloudView& view,
+               const std::vector<std::uint64_t>& gids, std::size_t owned, std::size_t total)
+      : comm_(comm), judging_(judging), owned_(owned), total_(total) {
+    MPI_Comm_rank(comm_, &rank_);
     best_.resize(3 * owned);
     for (std::size_t i = 0; i < owned; ++i) {
       const Vec3 v = view.normals.at(i);
       const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
       for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
     }
-    const pnf::detail::SurfaceJudge::Sums input = chosen_scale_sums(judging.geometry);
-    double sums[5] = {input.squared, input.disagreement, input.variance, input.inner_variance, double(judge_.size())};
-    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 5, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
-    const pnf::detail::SurfaceJudge::Sums all{sums[0], sums[1], sums[2], sums[3]};
-    const double to_degrees = 180 / pnf::geometry::kPi;
-    judging_.rms_by_pass.assign(1, sums[4] > 0 ? std::sqrt(sums[0] / sums[4]) * to_degrees : 0.0);
-    judging_.own_error_deg = sums[4] > 0 ? std::sqrt(all.own_error_squared() / sums[4]) * to_degrees : 0.0;
-    judging_.fit_points = judge_.scored();
+    gather_counts(gids);
+    double numbers[4] = {0, 0, 0, 0};
+    if (judging_.root) {
+      const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
+      const double* input = judging_.root->input_normals.data();
+      numbers[0] = judge.rms_deg(input);
+      numbers[1] = judge.own_error_deg(input);
+      numbers[2] = double(judge.scored());
+      numbers[3] = double(judge.size());
+    }
+    detail::check_mpi(MPI_Bcast(numbers, 4, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    judging_.rms_by_pass.assign(1, numbers[0]);
+    judging_.own_error_deg = numbers[1];
+    judging_.fit_points = int(numbers[2]);
+    judging_.samples = std::size_t(numbers[3]);
     // A pass must beat the input by more than the judge's own error explains.
     best_rms_ = pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
     judging_.best_pass = 0;
   }
 
   void after_pass(const std::vector<double>& owned_normals) {
-    const double rms = summed_rms(owned_normals);
+    const double rms = scored_on_root(owned_normals);
     judging_.rms_by_pass.push_back(rms);
     const int pass = int(judging_.rms_by_pass.size()) - 1;
     if (rms < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
@@ -76,40 +76,51 @@ class JudgedPasses {
   const std::vector<double>& best_normals() const { return best_; }
 
  private:
-  // The judge's scale as one process's choose_scale takes it, on the ranks' added sums (every rank
-  // decides alike), and this rank's sums of the input at that scale.
-  pnf::detail::SurfaceJudge::Sums chosen_scale_sums(const pnf::detail::JudgeGeometry& geometry) {
-    using Sums = pnf::detail::SurfaceJudge::Sums;
-    std::vector<int> scales = pnf::detail::SurfaceJudge::scales_of(geometry.neighbours);
-    if (!geometry.quarter_allowed) scales.resize(1);
-    auto local_sums = [&](int points) {
-      judge_.score_with(points);
-      return judge_.empty() ? Sums{} : judge_.sums(best_.data());
-    };
-    const Sums whole = local_sums(scales[0]);
-    if (scales.size() < 2) return whole;
-    const Sums quarter = local_sums(scales[1]);
-    double added[8] = {whole.squared,   whole.disagreement,   whole.variance,   whole.inner_variance,
-                       quarter.squared, quarter.disagreement, quarter.variance, quarter.inner_variance};
-    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, added, 8, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
-    if (pnf::detail::SurfaceJudge::quarter_is_better({added[0], added[1], added[2], added[3]},
-                                                     {added[4], added[5], added[6], added[7]})) {
-      return quarter;
-    }
-    judge_.score_with(scales[0]);
-    return whole;
+  // Rank 0 learns where each rank's rows go in the whole cloud (once).
+  void gather_counts(const std::vector<std::uint64_t>& gids) {
+    int ranks = 1;
+    MPI_Comm_size(comm_, &ranks);
+    const int mine = int(owned_);
+    counts_.assign(std::size_t(ranks), 0);
+    detail::check_mpi(MPI_Gather(&mine, 1, MPI_INT, counts_.data(), 1, MPI_INT, 0, comm_), "MPI_Gather");
+    displacements_.assign(std::size_t(ranks), 0);
+    for (int r = 1; r < ranks; ++r) displacements_[std::size_t(r)] = displacements_[std::size_t(r) - 1] + counts_[std::size_t(r) - 1];
+    all_gids_.resize(rank_ == 0 ? total_ : 0);
+    std::vector<unsigned long long> my_gids(gids.begin(), gids.begin() + std::ptrdiff_t(owned_));
+    detail::check_mpi(MPI_Gatherv(my_gids.data(), mine, MPI_UNSIGNED_LONG_LONG, all_gids_.data(), counts_.data(),
+                                  displacements_.data(), MPI_UNSIGNED_LONG_LONG, 0, comm_),
+                      "MPI_Gatherv");
   }
 
-  double summed_rms(const std::vector<double>& normals) const {
-    double sums[2] = {judge_.empty() ? 0.0 : judge_.sum_squared(normals.data()), double(judge_.size())};
-    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, comm_), "MPI_Allreduce");
-    return sums[1] > 0 ? std::sqrt(sums[0] / sums[1]) * 180 / pnf::geometry::kPi : 0.0;
+  // The judge's RMS of the whole cloud's normals after a pass, scored on rank 0, on every rank.
+  double scored_on_root(const std::vector<double>& owned_normals) {
+    std::vector<int> counts3(counts_.size()), displacements3(counts_.size());
+    for (std::size_t r = 0; r < counts_.size(); ++r) {
+      counts3[r] = 3 * counts_[r];
+      displacements3[r] = 3 * displacements_[r];
+    }
+    std::vector<double> gathered(rank_ == 0 ? 3 * total_ : 0);
+    detail::check_mpi(MPI_Gatherv(owned_normals.data(), int(3 * owned_), MPI_DOUBLE, gathered.data(), counts3.data(),
+                                  displacements3.data(), MPI_DOUBLE, 0, comm_),
+                      "MPI_Gatherv");
+    double rms = 0;
+    if (judging_.root) {
+      std::vector<double> whole(3 * total_);
+      for (std::size_t k = 0; k < total_; ++k) {
+        for (int c = 0; c < 3; ++c) whole[3 * all_gids_[k] + std::size_t(c)] = gathered[3 * k + std::size_t(c)];
+      }
+      rms = judging_.root->judge.rms_deg(whole.data());
+    }
+    detail::check_mpi(MPI_Bcast(&rms, 1, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    return rms;
   }
 
   MPI_Comm comm_;
   detail::PassJudging& judging_;
-  std::size_t owned_;
-  pnf::detail::SurfaceJudge judge_;
+  std::size_t owned_, total_;
+  int rank_ = 0;
+  std::vector<int> counts_, displacements_;  // rank 0: each rank's points, and where they start
+  std::vector<unsigned long long> all_gids_;  // rank 0: the global id of each gathered row
   std::vector<double> best_;
   double best_rms_ = 0;  // to beat: the input's bar, then the best kept pass's
   int best_here_ = 0;    // the lowest judged pass, the input included, for the end of the passes
@@ -208,7 +219,7 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   std::vector<double> new_normals(3 * n);
   std::unique_ptr<JudgedPasses> judged;
   if (judging) {
-    agree.run([&] { judged = std::make_unique<JudgedPasses>(comm, *judging, view, n, owned.total); });
+    agree.run([&] { judged = std::make_unique<JudgedPasses>(comm, *judging, view, owned.gids, n, owned.total); });
     part.exchange_halo = [&](const std::vector<double>& owned_normals, std::vector<double>& halo) {
       agree.check();
       plan.exchange(owned_normals, halo);

@@ -21,14 +21,16 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
   DistributedAutoRun run;
-  run.choice = detail::rule_choice(comm, agree, local);
+  detail::RootJudge root;  // rank 0's judge over the whole cloud; its emptiness on every rank
+  run.choice = detail::rule_choice(comm, agree, local, &root);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
   if (stop_change_deg >= 0) run.choice.params.stop_change_deg = stop_change_deg;
-  if (run.choice.params.iterations == 0) {
+  if (run.choice.params.iterations == 0 || root.empty) {
     run.summary = improve_normals(comm, local, normals_out, run.choice.params, options, progress);
     return run;
   }
   const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);
-  const pnf::detail::JudgeGeometry geometry = pnf::detail::judge_geometry(run.choice.estimate);
   std::vector<Vec3> best(local.size()), trial(local.size());
   double best_rms = -1;
   std::size_t best_candidate = 0;
@@ -37,14 +39,14 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     FilterParams params = candidates[c];
     params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
     detail::PassJudging judging;
-    judging.geometry = geometry;
+    judging.root = rank == 0 ? &root : nullptr;
     judging.passes_past_best = pnf::detail::kJudgedPassesPastBest;
     const DistributedSummary summary = detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params,
                                                                options, progress, &judging);
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
     if (c == 0) {
-      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, geometry.samples,
+      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.samples,
                                            judging.fit_points);
     }
     judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);

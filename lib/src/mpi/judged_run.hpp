@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include <cstddef>
 #include <vector>
 
 #include "auto/surface_judge.hpp"
@@ -11,14 +12,24 @@
 
 namespace pnf::mpi::detail {
 
+// Rank 0's judge over the whole cloud, gathered there for the choice (rule_choice), with the
+// whole cloud's input normals, normalised: what one process's improve_normals_auto judges with.
+// `empty` is known on every rank.
+struct RootJudge {
+  pnf::detail::SurfaceJudge judge;
+  std::vector<double> input_normals;  // N by 3, the concatenation of the ranks' rows
+  bool empty = true;
+};
+
 // What the judged run needs and what it tells: the same on every rank.
 struct PassJudging {
-  pnf::detail::JudgeGeometry geometry;  // of the pooled estimate; samples over the whole cloud
-  int passes_past_best = 2;             // passes end when this many in a row did not beat the best
-  std::vector<double> rms_by_pass;      // the judge's RMS (degrees) of the input, then each pass
-  int best_pass = 0;                    // 0: the input
-  double own_error_deg = 0;             // the judge's own error (SurfaceJudge::own_error_deg)
-  int fit_points = 0;                   // the points of the fits that score (SurfaceJudge::scored)
+  const RootJudge* root = nullptr;  // rank 0's, where the passes are scored; null elsewhere
+  int passes_past_best = 2;         // passes end when this many in a row did not beat the best
+  std::vector<double> rms_by_pass;  // the judge's RMS (degrees) of the input, then each pass
+  int best_pass = 0;                // 0: the input
+  double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
+  int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
+  std::size_t samples = 0;          // the judge's samples
 };
 
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's
@@ -29,8 +40,10 @@ DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, Mutabl
                                    const ProgressCallback& progress, PassJudging* judging);
 
 class Agreement;
-// The pooled estimate (each rank's slice, pooled, with the one process's mean radius) and the
-// rule on it: the first step of choose_filter_params and improve_normals_auto. Collective.
-AutoChoice rule_choice(MPI_Comm comm, const Agreement& agree, const CloudView& local);
+// One process's estimate and rule: every rank's points gathered on rank 0 in rank order (the
+// cloud one process would read), estimated there and the choice sent to every rank; with
+// `root`, rank 0 also keeps the judge (and every rank learns whether it is empty). The first
+// step of choose_filter_params and improve_normals_auto. Collective.
+AutoChoice rule_choice(MPI_Comm comm, const Agreement& agree, const CloudView& local, RootJudge* root);
 
 }  // namespace pnf::mpi::detail
