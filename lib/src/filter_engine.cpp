@@ -383,7 +383,10 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   summary.backend = to_string(options.device.backend);
   summary.device = backend.description();
   if (cloud.size() == 0) {
-    if (part) idle_passes(*part, params, progress, summary);
+    if (part) {
+      check_idle_pair_limit(*part, options);
+      idle_passes(*part, params, progress, summary);
+    }
     return summary;
   }
 
@@ -395,7 +398,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   summary.radius_source = prepared.plan.radius.source;
   summary.sigma_f = prepared.plan.sigma_f;
   summary.sigma_g = prepared.plan.sigma_g;
-  const double pair_estimate = check_pair_limit(prepared, options);
+  const double pair_estimate = check_pair_limit(prepared, options, part);
   check_time_limit(backend, prepared, options, pair_estimate, params.iterations, summary.device);
 
   // Step 2, the lists' counts.

@@ -32,6 +32,10 @@ struct DistributedPart {
   // Asked after every pass's exchange (and stop rule): true ends the passes there, as the stop
   // rule does. In a distributed run every process must answer alike (from summed figures).
   std::function<bool()> ends_passes;
+  // Adds `count` values over every process, after making sure none has failed (a distributed
+  // run's agreement): the job's pair estimate, which every process refuses alike
+  // (check_pair_limit). Empty: no job-wide limit.
+  std::function<void(double* values, int count)> job_sum;
   // No other process takes part (run_observed's observer): a cancel may end a pass midway, where
   // the processes of a distributed run end their passes together.
   bool one_process = false;

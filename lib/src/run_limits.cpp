@@ -69,18 +69,45 @@ double estimate_run_seconds(FilterBackend& backend, const PreparedCloud& prepare
 
 }  // namespace
 
-double check_pair_limit(const PreparedCloud& prepared, const FilterOptions& options) {
-  const SpatialIndex& search = *prepared.search;
-  const double estimate = search.estimate_pairs(prepared.plan.reach);
-  if (estimate <= double(options.memory.max_neighbour_pairs)) return estimate;
-  const double per_point = estimate / double(search.size());
+namespace {
+
+// Refuses `pairs` over `points` when past the limit; `what` names the run ("" or " for the whole job").
+void refuse_past_limit(double pairs, double points, double sigma_f, const FilterOptions& options,
+                       const std::string& what) {
+  if (pairs <= double(options.memory.max_neighbour_pairs)) return;
+  const double per_point = points > 0 ? pairs / points : 0;
   throw Error(ErrorCode::invalid_argument,
-              "sigma_f = " + std::to_string(prepared.plan.sigma_f) + " model units gives about " +
+              "sigma_f = " + std::to_string(sigma_f) + " model units gives about " +
                   std::to_string(std::llround(per_point)) + " neighbours per point, about " +
-                  std::to_string(std::llround(estimate)) + " neighbour pairs (" + gib(estimate * 4) +
+                  std::to_string(std::llround(pairs)) + " neighbour pairs" + what + " (" + gib(pairs * 4) +
                   " of lists, as many kernel evaluations per pass), more than the limit of " +
                   std::to_string(options.memory.max_neighbour_pairs) +
                   " pairs; lower sigma_f, or raise MemoryPolicy::max_neighbour_pairs (pnf filter --max-pairs)");
+}
+
+}  // namespace
+
+double check_pair_limit(const PreparedCloud& prepared, const FilterOptions& options, const DistributedPart* part) {
+  const SpatialIndex& search = *prepared.search;
+  const double estimate = search.estimate_pairs(prepared.plan.reach);
+  if (part && part->job_sum) {
+    // The owned points' share (the halo gets no lists), added over the processes.
+    double job[4] = {estimate * double(prepared.owned) / double(search.size()), double(prepared.owned),
+                     prepared.plan.sigma_f, 1.0};
+    part->job_sum(job, 4);
+    refuse_past_limit(job[0], job[1], job[2] / job[3], options, " for the whole job");
+    return estimate;
+  }
+  refuse_past_limit(estimate, double(search.size()), prepared.plan.sigma_f, options, "");
+  return estimate;
+}
+
+void check_idle_pair_limit(const DistributedPart& part, const FilterOptions& options) {
+  if (!part.job_sum) return;
+  // The processes with points add their sigma_f (the same plan on each) and a 1 each.
+  double job[4] = {0, 0, 0, 0};
+  part.job_sum(job, 4);
+  refuse_past_limit(job[0], job[1], job[3] > 0 ? job[2] / job[3] : 0, options, " for the whole job");
 }
 
 void check_time_limit(FilterBackend& backend, const PreparedCloud& prepared, const FilterOptions& options,

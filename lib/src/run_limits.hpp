@@ -12,8 +12,14 @@ namespace pnf::detail {
 
 // Estimates the neighbour pairs of the whole view from a sample (cheap where the exact count
 // would take hours) and returns it; throws pnf::Error(invalid_argument) when it passes
-// options.memory.max_neighbour_pairs.
-double check_pair_limit(const PreparedCloud& prepared, const FilterOptions& options);
+// options.memory.max_neighbour_pairs. With a distributed part's job_sum, the limit is the whole
+// job's: the owned points' shares of every process, added (each throws alike).
+double check_pair_limit(const PreparedCloud& prepared, const FilterOptions& options,
+                        const DistributedPart* part = nullptr);
+
+// The same for a distributed part with no points: it adds nothing, but takes part in the job's
+// sum and refuses with the others.
+void check_idle_pair_limit(const DistributedPart& part, const FilterOptions& options);
 
 // With options.max_seconds > 0 and work large enough to matter, times `backend` on a compact
 // piece of the cloud (it uploads the cloud and builds a probe's lists: the caller uploads again)

@@ -128,6 +128,23 @@ TEST(FilterFile, PairLimitIsTheWholeJobs) {
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank() == 0) EXPECT_EQ(others(folder, {"house.ply"}), std::vector<std::string>{}) << "written after a refusal";
+  // Well past the limit, the ranks' estimates added refuse the job before any list is built or
+  // pass run, though each rank's own share (about total / P) is under it.
+  o.options.memory.max_neighbour_pairs = total * 3 / 4;
+  int passes_seen = 0;
+  try {
+    mpi::filter_file(MPI_COMM_WORLD, in.string(), out.string(), o, [&](const PassProgress& p) {
+      passes_seen += p.stage == ProgressStage::pass || p.stage == ProgressStage::lists;
+      return true;
+    });
+    ADD_FAILURE() << "a job of " << total << " pairs ran under a limit of " << total * 3 / 4;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument) << e.what();
+    EXPECT_NE(std::string(e.what()).find("pairs for the whole job"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(passes_seen, 0) << "lists built or passes run before the refusal";
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) EXPECT_EQ(others(folder, {"house.ply"}), std::vector<std::string>{}) << "written after a refusal";
   // Each rank's engine refuses its own sampled estimate over its points and halo (never more
   // than the job's pairs but for the sampling's spread, as in one process): a margin above.
   o.options.memory.max_neighbour_pairs = total + total / kEstimateSpread;

@@ -120,9 +120,9 @@ struct FileRun {
 // `options` is the value the one-process run takes (pnf/filter_file_options.hpp), with the
 // limits counted for the whole job: options.options.max_seconds bounds each rank's estimated
 // time (the ranks run at once: the job's wall time), memory.max_neighbour_pairs the neighbour
-// pairs of all ranks together (a rank whose own estimate passes it refuses before its lists
-// are built; the job's exact count, the ranks' summed, is compared after the passes, before
-// anything is written: a refusal, exit 2 in pnf filter, that comes after the work). Binary
+// pairs of all ranks together (the ranks' estimates, added, refuse the job before any list is
+// built; the job's exact count, the ranks' summed, is compared again after the passes, before
+// anything is written). Binary
 // little-endian PLY in and out: each rank reads and writes its own rows, and no rank holds the
 // whole file; anything else: rank 0 reads the file, scatters the points, gathers the normals
 // and writes. OUT is written in a staging folder beside it,

@@ -211,6 +211,10 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
     agree.check();  // a rank that failed in its pass ends the run here, on every rank
     plan.exchange(owned_normals, halo);
   };
+  part.job_sum = [&](double* values, int count) {
+    agree.check();  // a rank that failed before the refusals ends the run here, on every rank
+    detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_SUM, comm), "MPI_Allreduce");
+  };
   part.sum_over_processes = [&](double* values, int count) {
     detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, values, count, MPI_DOUBLE, MPI_SUM, comm), "MPI_Allreduce");
   };
