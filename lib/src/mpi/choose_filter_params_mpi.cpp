@@ -21,26 +21,21 @@ std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine) 
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
-  const long long count = static_cast<long long>(mine.size());
+  long long count = static_cast<long long>(mine.size()), total = count;
+  // Every rank checks the size, so that all refuse alike before any of them waits in the gather.
+  // MPI counts are ints: past 2^31 values (about 350M points with normals) the gather would have
+  // to go in pieces.
+  detail::check_mpi(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_LONG_LONG, MPI_SUM, comm), "MPI_Allreduce");
+  if (total > 2147483647LL) {
+    throw Error(ErrorCode::invalid_input, "--auto across ranks gathers the cloud on rank 0 for its choice: " +
+                                              std::to_string(total) + " values do not fit one MPI gather (2^31)");
+  }
   std::vector<long long> counts(static_cast<std::size_t>(ranks));
   detail::check_mpi(MPI_Gather(&count, 1, MPI_LONG_LONG, counts.data(), 1, MPI_LONG_LONG, 0, comm), "MPI_Gather");
-  std::vector<double> all;
   std::vector<int> sizes(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
-  if (rank == 0) {
-    long long total = 0;
-    for (int r = 0; r < ranks; ++r) {
-      // MPI counts are ints: past 2^31 values (about 350M points with normals) this gather
-      // would need to go in pieces.
-      if (total + counts[std::size_t(r)] > 2147483647LL) {
-        throw Error(ErrorCode::invalid_input, "--auto across ranks gathers the cloud on rank 0 for its choice, "
-                                              "and over 2^31 values do not fit one MPI gather");
-      }
-      offsets[std::size_t(r)] = int(total);
-      sizes[std::size_t(r)] = int(counts[std::size_t(r)]);
-      total += counts[std::size_t(r)];
-    }
-    all.resize(std::size_t(total));
-  }
+  for (std::size_t r = 1; r < sizes.size(); ++r) offsets[r] = offsets[r - 1] + int(counts[r - 1]);
+  for (std::size_t r = 0; r < sizes.size(); ++r) sizes[r] = int(counts[r]);
+  std::vector<double> all(rank == 0 ? std::size_t(total) : 0);
   detail::check_mpi(MPI_Gatherv(mine.data(), int(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(),
                                 MPI_DOUBLE, 0, comm),
                     "MPI_Gatherv");
