@@ -22,6 +22,7 @@ KeyboardInterrupt.
 
 from __future__ import annotations
 
+import inspect
 import math
 import numbers
 import operator
@@ -76,6 +77,22 @@ def _whole(name: str, value: Any) -> int:
     return whole
 
 
+def _takes_stages(progress: Any) -> bool:
+    """Whether a progress callable takes the keywords stage and fraction (or **kwargs), and so
+    wants every report rather than the finished passes only."""
+    if progress is None:
+        return False
+    try:
+        parameters = inspect.signature(progress).parameters.values()
+    except (TypeError, ValueError):  # a builtin without a signature: the three-argument form
+        return False
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters):
+        return True
+    named = {p.name for p in parameters
+             if p.kind in (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)}
+    return {"stage", "fraction"} <= named
+
+
 def improve_normals(
     points: ArrayLike,
     normals: ArrayLike,
@@ -88,7 +105,7 @@ def improve_normals(
     auto: bool = False,
     device: Optional[str] = None,
     backend: str = "opencl",
-    progress: Optional[Callable[[int, int, float], Optional[bool]]] = None,
+    progress: Optional[Callable[..., Optional[bool]]] = None,
     radii: Optional[ArrayLike] = None,
     stop_change_deg: Optional[float] = None,
     out: Optional[ArrayLike] = None,
@@ -122,9 +139,13 @@ def improve_normals(
         naming both). backend and device are read by the library's one parser, the CLI's too
         (pnf::parse_backend_and_device), so --backend and --device take and refuse the same.
     progress: called as progress(pass_done, passes, seconds) after each pass; returning False
-        cancels the run (Cancelled is raised). It is not called while the neighbour lists are
-        built; Ctrl-C cancels within about 0.2 s, during the list build and within a pass (passes
-        run in slices).
+        cancels the run (Cancelled is raised). A callable that takes the keywords stage and
+        fraction (or **kwargs) is called at every report instead, about every 0.2 s: as
+        progress(passes_done, passes, seconds, stage=..., fraction=...), where stage is
+        "lists" (building the neighbour lists), "estimate" (auto=True's look at the data),
+        "filtering" (within pass passes_done + 1) or "pass" (pass passes_done just ended), seconds
+        the time spent in that stage (for "pass", that pass's time) and fraction the share of
+        the stage done, in [0, 1]. Ctrl-C cancels within about 0.2 s in every stage.
     radii: optional (N,) surfel radii.
     stop_change_deg: end the passes once the normals change less than this on average
         (degrees); None: off, or the rule's 0.01 with auto=True.
@@ -144,7 +165,7 @@ def improve_normals(
     return _pnf.improve_normals(
         points, normals, float(sigma_f), float(sigma_g), _whole("iterations", iterations), units,
         None if mean_radius is None else float(mean_radius), bool(auto),
-        device, backend, progress, radii, stop_change_deg, out, max_seconds,
+        device, backend, progress, _takes_stages(progress), radii, stop_change_deg, out, max_seconds,
     )
 
 

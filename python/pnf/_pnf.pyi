@@ -160,7 +160,7 @@ class PointFile:
 def improve_normals(
     points: Any, normals: Any, sigma_f: float, sigma_g: float, iterations: int, units: str,
     mean_radius: Optional[float], auto: bool, device: Optional[str], backend: str,
-    progress: Optional[Callable[[int, int, float], Optional[bool]]], radii: Optional[Any],
+    progress: Optional[Callable[..., Optional[bool]]], progress_stages: bool, radii: Optional[Any],
     stop_change_deg: Optional[float], out: Optional[Any], max_seconds: Optional[float],
 ) -> Any: ...
 def choose_params(points: Any, normals: Optional[Any], device: Optional[str], backend: str) -> AutoChoice: ...

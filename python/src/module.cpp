@@ -37,21 +37,28 @@ FilterOptions filter_options(const std::optional<std::string>& device, const std
 }
 
 // The progress callback the library calls after each pass and about every 0.2 s while it builds
-// the neighbour lists and within a pass, with the GIL released. It takes the GIL back to run
-// Python's signal handlers (so Ctrl-C raises KeyboardInterrupt within about 0.2 s) and,
-// after a pass only, the user's callable: its contract stays (pass, passes, seconds). Any Python exception is kept in
-// `pending` and cancels the run; the caller rethrows it in place of pnf::Error(cancelled).
-ProgressCallback python_progress(const py::object& callable, std::exception_ptr& pending) {
+// the neighbour lists, within a pass and during --auto's estimate, with the GIL released. It
+// takes the GIL back to run Python's signal handlers (so Ctrl-C raises KeyboardInterrupt within
+// about 0.2 s) and the user's callable: after a pass only, as callable(pass, passes, seconds),
+// unless `every_report` (the callable takes the keywords stage and fraction, which
+// python/pnf/__init__.py checks): then at every report, as callable(pass, passes, seconds,
+// stage=..., fraction=...) with PassProgress's fields. Any Python exception is kept in `pending`
+// and cancels the run; the caller rethrows it in place of pnf::Error(cancelled).
+ProgressCallback python_progress(const py::object& callable, bool every_report, std::exception_ptr& pending) {
   // Captures by reference only: the library may copy the std::function without the GIL.
-  return [&callable, &pending](const PassProgress& p) -> bool {
+  return [&callable, every_report, &pending](const PassProgress& p) -> bool {
     py::gil_scoped_acquire gil;
     try {
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!callable.is_none() && p.stage == ProgressStage::pass) {
-        py::object answer = callable(p.pass, p.passes, p.seconds);
-        if (answer.ptr() == Py_False) return false;
+      if (callable.is_none()) return true;
+      py::object answer;
+      if (every_report) {
+        using namespace pybind11::literals;
+        answer = callable(p.pass, p.passes, p.seconds, "stage"_a = to_string(p.stage), "fraction"_a = p.fraction);
+      } else if (p.stage == ProgressStage::pass) {
+        answer = callable(p.pass, p.passes, p.seconds);
       }
-      return true;
+      return answer.ptr() != Py_False;
     } catch (...) {
       pending = std::current_exception();
       return false;
@@ -78,7 +85,7 @@ const FilterParams kDefaultParams{};
 py::object improve_normals(py::handle points, py::handle normals, double sigma_f, double sigma_g, int iterations,
                            const std::string& units, std::optional<double> mean_radius, bool automatic,
                            const std::optional<std::string>& device, const std::string& backend,
-                           const py::object& progress, py::handle radii, std::optional<double> stop_change_deg,
+                           const py::object& progress, bool progress_stages, py::handle radii, std::optional<double> stop_change_deg,
                            py::handle out_array, std::optional<double> max_seconds) {
   FilterParams params;
   params.sigma_f = sigma_f;
@@ -130,7 +137,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   }
 
   std::exception_ptr pending;
-  const ProgressCallback callback = python_progress(progress, pending);
+  const ProgressCallback callback = python_progress(progress, progress_stages, pending);
   run_released(pending, [&] {
     FilterParams run_params = params;
     NormalFilter filter(options);
@@ -175,7 +182,7 @@ py::object estimate(py::handle points, int k, const std::string& orient, const s
   // KeyboardInterrupt during a long estimate.
   std::exception_ptr pending;
   const py::object none = py::none();
-  const ProgressCallback callback = python_progress(none, pending);
+  const ProgressCallback callback = python_progress(none, false, pending);
   run_released(pending, [&] { estimate_normals(p.view(), out.view, params, callback); });
   return out.array;
 }
@@ -321,7 +328,7 @@ PYBIND11_MODULE(_pnf, m) {
   // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
-        "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true), "max_seconds"_a.none(true));
+        "progress_stages"_a, "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true), "max_seconds"_a.none(true));
   m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true), "device"_a.none(true), "backend"_a);
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(

@@ -176,6 +176,48 @@ def test_progress_is_called_after_each_pass(cube):
     assert calls == [(1, 3, True), (2, 3, True), (3, 3, True)]
 
 
+def test_a_progress_taking_stage_and_fraction_hears_every_stage_within_passes_too():
+    # 60k points, about 10M pairs a pass: more than the first slice's 4M (filter_engine.cpp), so a
+    # pass runs in several slices, each reported as "filtering" before the pass's end.
+    points, normals, _ = noisy_cube(100)
+    calls = []
+
+    def progress(done, total, seconds, stage, fraction):
+        calls.append((stage, done, total, fraction, seconds))
+
+    pnf.improve_normals(points, normals, iterations=2, backend="reference", progress=progress)
+    stages = [c[0] for c in calls]
+    assert set(stages) == {"lists", "filtering", "pass"}, stages
+    assert stages.index("lists") < stages.index("filtering") < stages.index("pass")
+    assert [c[1:3] for c in calls if c[0] == "pass"] == [(1, 2), (2, 2)]
+    assert all(0.0 <= c[3] <= 1.0 and c[4] >= 0 for c in calls)
+    first_pass = [c for c in calls[:stages.index("pass")] if c[0] == "filtering"]
+    assert len(first_pass) >= 2 and all(c[1] == 0 for c in first_pass)  # 0 passes done yet
+    assert any(c[3] < 1.0 for c in first_pass)
+    assert [c[3] for c in first_pass] == sorted(c[3] for c in first_pass)
+
+
+def test_auto_reports_its_estimate_to_a_kwargs_progress(cube):
+    points, normals, _ = cube
+    stages = []
+    pnf.improve_normals(points, normals, auto=True, backend="reference",
+                        progress=lambda *args, **kw: stages.append(kw["stage"]))
+    assert stages[0] == "estimate" and "pass" in stages
+
+
+def test_false_from_a_report_within_a_pass_cancels_that_pass():
+    points, normals, _ = noisy_cube(100)
+    calls = []
+
+    def progress(done, total, seconds, *, stage, fraction):
+        calls.append(stage)
+        return stage != "filtering"
+
+    with pytest.raises(pnf.Cancelled):
+        pnf.improve_normals(points, normals, iterations=2, backend="reference", progress=progress)
+    assert calls[-1] == "filtering" and "pass" not in calls
+
+
 def test_progress_returning_false_cancels(cube):
     points, normals, _ = cube
     with pytest.raises(pnf.Cancelled):
