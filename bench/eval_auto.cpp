@@ -1,4 +1,4 @@
-// pnf_eval_auto: how `--auto` (pnf/auto_params.hpp) compares with the paper's settings and with
+// pnf_eval_auto: how `--auto` (pnf/improve_normals_auto.hpp) compares with the paper's settings and with
 // the best fixed setting of a coarse grid, on clouds whose true normals are known.
 //
 // Cases: synthetic shapes (plane, sphere, cube, wedges, cylinder, torus, fold; about 20k points sampled
@@ -40,7 +40,7 @@
 
 #include "eval_auto_cases.hpp"
 #include "eval_clouds.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/normal_filter.hpp"
 

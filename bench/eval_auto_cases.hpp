@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "pnf/auto_params.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/normal_filter.hpp"
 #include "setting_grid.hpp"  // the grid is pnf_eval_real's too
 

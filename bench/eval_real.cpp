@@ -1,4 +1,4 @@
-// pnf_eval_real: how `--auto` (pnf/auto_params.hpp) does on real shapes whose true normals are
+// pnf_eval_real: how `--auto` (pnf/improve_normals_auto.hpp) does on real shapes whose true normals are
 // known: triangle meshes (CAD parts and organic models under ../shared/data) sampled uniformly by
 // area, the truth taken from the mesh (bench/real_meshes.hpp: corner normals smooth across soft
 // edges, sharp across creases of more than 30 degrees). Issue 29, item 1. Held out (item 4): point
@@ -39,8 +39,8 @@
 
 #include "eval_clouds.hpp"
 #include "eval_real_report.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/estimate_normals.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/normal_filter.hpp"
 #include "real_meshes.hpp"

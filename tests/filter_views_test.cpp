@@ -7,6 +7,7 @@
 
 #include "pnf/cloud_view.hpp"
 #include "pnf/error.hpp"
+#include "pnf/improve_normals.hpp"
 #include "pnf/normal_filter.hpp"
 #include "test_backends.hpp"
 #include "test_clouds.hpp"

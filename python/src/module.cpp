@@ -13,10 +13,10 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 #include "errors.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/device.hpp"
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/normal_filter.hpp"
 #include "pnf/options_text.hpp"
 #include "pnf/render.hpp"
@@ -247,7 +247,7 @@ py::dict view_info(py::handle array) {
 }
 
 void bind_results(py::module_& m) {
-  py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (auto_params.hpp); lengths in model units.")
+  py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (pnf/estimate_data.hpp); lengths in model units.")
       .def_readonly("points", &DataEstimate::points)
       .def_readonly("samples", &DataEstimate::samples)
       .def_readonly("mean_radius", &DataEstimate::mean_radius)

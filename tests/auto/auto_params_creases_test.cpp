@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "crease_clouds.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
 #include "pnf/normal_filter.hpp"
@@ -250,54 +250,6 @@ TEST(AutoCreases, SharpnessFollowsTheAngleNotTheDensity) {
     EXPECT_LT(high, last) << degrees << " deg reads no gentler than the sharper crease before it";
     last = low;
   }
-}
-
-// A distributed run estimates each rank's slice and pools the estimates (pool_estimates). A
-// crease cut along its length into two slices, each half the crease in half the area, must pool
-// to the whole cloud's crease length (a length adds up; an average of the two per-size values
-// would read 1 / sqrt 2 of it) and to the whole cloud's choice. An earlier pooling dropped the
-// crease length altogether, so every distributed --auto read "smooth".
-TEST(PoolEstimates, TwoSlicesOfACreaseGiveTheWholeCreaseAndChoice) {
-  Crease c = make_crease(90, 100000, 0.1, 21);
-  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
-  std::vector<PointCloud> slices(2);
-  for (std::size_t i = 0; i < c.cloud.size(); ++i) {
-    PointCloud& slice = slices[c.cloud.positions[i][1] < 0.5 ? 0 : 1];
-    slice.positions.push_back(c.cloud.positions[i]);
-    slice.normals.push_back(c.cloud.normals[i]);
-  }
-  const DataEstimate whole = estimate_data(c.cloud);
-  const DataEstimate pooled = pool_estimates({estimate_data(slices[0]), estimate_data(slices[1])});
-  EXPECT_EQ(pooled.points, whole.points);
-  // The slices' fits differ from the whole's near the cut (half-discs) and sample other points:
-  // the crease band's count moves by about 10% between samplings (the density test above).
-  EXPECT_NEAR(pooled.crease_length / whole.crease_length, 1.0, 0.25)
-      << "pooled " << pooled.crease_length << ", whole " << whole.crease_length;
-  EXPECT_NEAR(pooled.position_noise / whole.position_noise, 1.0, 0.1);
-  EXPECT_NEAR(pooled.mean_radius / whole.mean_radius, 1.0, 0.05);
-  const AutoChoice a = choose_filter_params(whole), b = choose_filter_params(pooled);
-  EXPECT_EQ(a.params.sigma_g < 100.0, b.params.sigma_g < 100.0) << a.rule << "\n" << b.rule;
-  EXPECT_EQ(a.params.iterations, b.params.iterations) << a.rule << "\n" << b.rule;
-  EXPECT_NEAR(b.params.sigma_f / a.params.sigma_f, 1.0, 0.1) << a.rule << "\n" << b.rule;
-}
-
-TEST(PoolEstimates, OnePartIsItselfAndPartsWithoutSamplesOnlyAddPoints) {
-  Crease c = make_crease(60, 20000, 0.25, 22);
-  c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);
-  const DataEstimate e = estimate_data(c.cloud);
-  DataEstimate empty;
-  empty.points = 7;
-  const DataEstimate p = pool_estimates({e, empty});
-  EXPECT_EQ(p.points, e.points + 7);
-  EXPECT_EQ(p.samples, e.samples);
-  EXPECT_DOUBLE_EQ(p.crease_length, e.crease_length);
-  EXPECT_DOUBLE_EQ(p.area_spacing, e.area_spacing);
-  EXPECT_DOUBLE_EQ(p.mean_radius, e.mean_radius);
-  EXPECT_DOUBLE_EQ(p.feature_share, e.feature_share);
-  EXPECT_DOUBLE_EQ(p.normal_noise_deg, e.normal_noise_deg);
-  EXPECT_DOUBLE_EQ(p.normal_position_coupling, e.normal_position_coupling);
-  EXPECT_DOUBLE_EQ(p.normal_crease_length, e.normal_crease_length);
-  EXPECT_THROW(pool_estimates({empty}), Error);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // pnf::estimate_data: the estimators against noise injected into shapes whose spacing is known.
 // The rule and `pnf filter --auto`: choose_filter_params_test.cpp.
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 
 #include <gtest/gtest.h>
 

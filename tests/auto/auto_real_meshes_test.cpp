@@ -9,7 +9,7 @@
 
 #include "crease_clouds.hpp"
 #include "eval_clouds.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "real_meshes.hpp"
 #include "test_clouds.hpp"
 

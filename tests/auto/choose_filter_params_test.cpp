@@ -7,7 +7,7 @@
 
 #include "cli/cli_test_support.hpp"
 #include "noisy_clouds.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/point_file.hpp"

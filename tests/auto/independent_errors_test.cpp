@@ -1,10 +1,11 @@
-// pnf::independent_normal_errors (pnf/auto_params.hpp): the gate on the estimate alone that makes
-// improve_normals_auto judge the rule's independent-errors setting beside the rule's own.
+// pnf::detail::independent_normal_errors (lib/src/auto/judged_passes.hpp): the gate on the
+// estimate alone that makes improve_normals_auto judge the rule's independent-errors setting beside the rule's own.
 #include <gtest/gtest.h>
 
 #include <cstddef>
 
-#include "pnf/auto_params.hpp"
+#include "auto/judged_passes.hpp"
+#include "pnf/choose_filter_params.hpp"
 
 namespace pnf::test {
 namespace {
@@ -22,7 +23,7 @@ bool independent(double noise_spacings, double correlation, std::size_t points =
   e.curved_share = 1;
   e.position_noise = noise_spacings * e.area_spacing;
   e.normal_error_correlation = correlation;
-  return independent_normal_errors(choose_filter_params(e));
+  return detail::independent_normal_errors(choose_filter_params(e));
 }
 
 // On clean positions, where the coupling has nothing to follow, errors somewhat alike between

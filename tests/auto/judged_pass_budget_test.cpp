@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "auto/judged_passes.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 
 namespace pnf::test {
 namespace {
@@ -34,7 +34,7 @@ TEST(JudgedPassBudget, TheIndependentErrorsLineRunsItsOwnPasses) {
   // One pass below 9 degrees of normal noise, two from it (the rule's line), never extended.
   for (auto [noise_deg, passes] : {std::pair{5.0, 1}, std::pair{10.0, 2}, std::pair{20.0, 2}}) {
     const AutoChoice choice = choice_with(noise_deg, true);
-    ASSERT_TRUE(independent_normal_errors(choice));
+    ASSERT_TRUE(detail::independent_normal_errors(choice));
     const FilterParams line = detail::independent_errors_setting(choice);
     EXPECT_TRUE(detail::on_independent_errors_line(choice, line));
     EXPECT_EQ(line.iterations, passes) << noise_deg << " deg";
@@ -58,7 +58,7 @@ TEST(JudgedPassBudget, PcaNormalsOnTheLinesSigmasKeepTheWholeBudget) {
   // with the line's sigmas (teddy at 0.25% noise, PCA-16: 22.9 deg after one pass, 8.95 after 8).
   const AutoChoice independent = choice_with(10, true);
   const AutoChoice pca = choice_with(10, false);
-  ASSERT_FALSE(independent_normal_errors(pca));
+  ASSERT_FALSE(detail::independent_normal_errors(pca));
   FilterParams params = detail::independent_errors_setting(independent);
   EXPECT_FALSE(detail::on_independent_errors_line(pca, params));
   EXPECT_EQ(detail::judged_pass_budget(params, pca), detail::kJudgedPassBudget);
@@ -71,7 +71,7 @@ TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
   e.curved_share = 0;
   e.crease_length = 0;
   const AutoChoice plane = choose_filter_params(e);
-  ASSERT_TRUE(independent_normal_errors(plane));
+  ASSERT_TRUE(detail::independent_normal_errors(plane));
   EXPECT_FALSE(detail::on_independent_errors_line(plane, plane.params));
   EXPECT_EQ(detail::judged_pass_budget(plane.params, plane), detail::kJudgedPassBudget);
 }

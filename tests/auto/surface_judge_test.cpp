@@ -9,7 +9,7 @@
 
 #include "auto/surface_judge.hpp"
 #include "crease_clouds.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "spatial/spatial_index.hpp"
 #include "test_clouds.hpp"
 

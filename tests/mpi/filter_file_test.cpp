@@ -13,6 +13,7 @@
 #include <string>
 
 #include "pnf/error.hpp"
+#include "pnf/improve_normals.hpp"
 #include "pnf/mpi.hpp"
 #include "pnf/point_file.hpp"
 #include "pnf/synthetic_shapes.hpp"

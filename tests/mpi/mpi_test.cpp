@@ -14,9 +14,10 @@
 #include <random>
 
 #include "agreement.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/device.hpp"
 #include "pnf/error.hpp"
+#include "pnf/improve_normals.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/mean_radius.hpp"
 #include "pnf/synthetic_shapes.hpp"
 #include "test_clouds.hpp"

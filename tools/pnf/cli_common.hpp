@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 #include "pnf/normal_filter.hpp"
 #include "pnf/point_file.hpp"

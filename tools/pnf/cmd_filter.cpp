@@ -5,8 +5,8 @@
 #include "cli_common.hpp"
 #include "commands.hpp"
 #include "launcher.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/filter_file_options.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/options_text.hpp"
 #include "pnf/point_file.hpp"
 #ifdef PNF_WITH_MPI

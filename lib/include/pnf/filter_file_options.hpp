@@ -19,7 +19,7 @@ struct FilterFileOptions {
   // The encoding of OUT (PLY ascii, PCD DATA); the format follows OUT's extension.
   WriteOptions write;
   // `pnf filter --auto`: sigma_f, sigma_g and the passes chosen from the data and judged
-  // (improve_normals_auto, pnf/auto_params.hpp); params' settings are then not used.
+  // (improve_normals_auto, pnf/improve_normals_auto.hpp); params' settings are then not used.
   bool automatic = false;
   // >= 0: replaces params.stop_change_deg and, with `automatic`, the rule's stop rule (0 turns
   // it off). < 0 (default): not given.

@@ -22,10 +22,10 @@
 #include <string>
 #include <vector>
 
-#include "pnf/auto_params.hpp"
 #include "pnf/cloud_view.hpp"
 #include "pnf/error.hpp"
 #include "pnf/filter_file_options.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/normal_filter.hpp"
 
 namespace pnf::mpi {
@@ -78,7 +78,7 @@ struct DistributedAutoRun {
   std::vector<double> judged_rms_deg;  // the judge's RMS after each pass, all settings tried
 };
 
-// `pnf filter --auto` across the ranks: one process's improve_normals_auto (pnf/auto_params.hpp)
+// `pnf filter --auto` across the ranks: one process's improve_normals_auto (pnf/improve_normals_auto.hpp)
 // on the concatenation of the ranks' rows, bit for bit: the choice as choose_filter_params above,
 // then the passes across the ranks, each scored by rank 0's judge on the whole cloud's normals
 // (32 bytes a point gathered a pass), so all ranks keep one process's pass. Writes this rank's

@@ -18,7 +18,8 @@
 namespace pnf {
 
 // FilterOptions: pnf/filter_options.hpp; FilterSummary and FilterResult: pnf/filter_summary.hpp;
-// PassProgress, ProgressStage and ProgressCallback: pnf/progress.hpp.
+// PassProgress, ProgressStage and ProgressCallback: pnf/progress.hpp; the one-shot call
+// improve_normals: pnf/improve_normals.hpp.
 
 // A filter bound to one backend and device. The OpenCL program is compiled once, at
 // construction; each run() builds the cloud's neighbour lists once and reuses them and the
@@ -67,11 +68,5 @@ class NormalFilter {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// One-shot conveniences: NormalFilter(options).run(...).
-FilterSummary improve_normals(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params = {},
-                              const FilterOptions& options = {}, const ProgressCallback& progress = {});
-FilterResult improve_normals(const PointCloud& cloud, const FilterParams& params = {},
-                             const FilterOptions& options = {});
 
 }  // namespace pnf

@@ -6,6 +6,5 @@ list(APPEND PNF_AUTO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/auto/sample_fit.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/choose_filter_params.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/crease_evidence.cpp
-  ${PROJECT_SOURCE_DIR}/lib/src/auto/pool_estimates.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/surface_judge.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/improve_normals_auto.cpp)

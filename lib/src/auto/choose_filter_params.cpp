@@ -7,7 +7,7 @@
 #include <string>
 
 #include "judged_passes.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 
 namespace pnf {
@@ -331,7 +331,7 @@ bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterPa
   return params.sigma_f == line.sigma_f && params.sigma_g == line.sigma_g && params.units == line.units;
 }
 
-bool independent_normal_errors(const AutoChoice& choice) {
+bool detail::independent_normal_errors(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;
   const double p = e.position_noise_area_spacings();
   // On clean positions the coupling has no noise to follow, so only the correlation tells

@@ -1,4 +1,4 @@
-// pnf::improve_normals_auto: `pnf filter --auto` as one call (auto_params.hpp), and what it
+// pnf::improve_normals_auto: `pnf filter --auto` as one call (pnf/improve_normals_auto.hpp), and what it
 // shares with the distributed one (judged_passes.hpp).
 #include <algorithm>
 #include <chrono>
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "judged_passes.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "surface_judge.hpp"
 
 namespace pnf {

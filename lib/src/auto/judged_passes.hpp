@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 
 namespace pnf::detail {
 
@@ -29,6 +29,15 @@ constexpr int kJudgedPassesPastBest = 2;
 // whose errors are correlated over the PCA neighbourhood (teddy at 0.25% noise, PCA-16: 28.4 deg
 // in, 22.9 after one pass, 8.95 after eight).
 int judged_pass_budget(const FilterParams& params, const AutoChoice& choice);
+
+// Whether the choice's estimate shows input normals whose errors are independent of the
+// positions and of each other (normal_position_coupling and normal_error_correlation both under
+// 0.35, normal_noise_deg from 0.6, p up to 3; on clean positions, p < 0.05, the correlation
+// under 0.1), in 2000 points or more: such normals (a scanner's, a mesh's) defeat the rule's
+// lines for PCA normals, so improve_normals_auto judges the rule's independent-errors setting
+// beside the rule's own (docs/auto.md).
+// Pure function; choose_filter_params.cpp.
+bool independent_normal_errors(const AutoChoice& choice);
 
 // Whether `params` is the rule's line for input normals with independent errors on `choice`'s
 // estimate (independent_errors_setting, where independent_normal_errors holds): the rule's own

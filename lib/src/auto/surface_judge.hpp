@@ -14,8 +14,8 @@
 #include <functional>
 #include <vector>
 
-#include "pnf/auto_params.hpp"
 #include "pnf/cloud_view.hpp"
+#include "pnf/estimate_data.hpp"
 #include "pnf/point_cloud.hpp"
 
 namespace pnf::detail {

@@ -8,7 +8,7 @@
 #include "auto/surface_judge.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
-#include "pnf/auto_params.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/mpi.hpp"
 
 namespace pnf::mpi {

@@ -8,8 +8,8 @@
 #include "auto/judged_passes.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
-#include "pnf/auto_params.hpp"
 #include "pnf/error.hpp"
+#include "pnf/improve_normals_auto.hpp"
 #include "pnf/mpi.hpp"
 
 namespace pnf::mpi {

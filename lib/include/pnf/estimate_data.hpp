@@ -1,25 +1,16 @@
-// pnf::choose_filter_params — filter parameters estimated from the data (`pnf filter --auto`).
+// pnf::estimate_data — what `pnf filter --auto` measures of a cloud: its spacing, the noise of
+// its positions and normals, its creases and curvature (docs/auto.md).
 //
-// The paper's settings (FilterParams defaults: sigma_f 4, sigma_g 0.5 mean radii, 4 passes) suit
-// lightly noisy models. This header measures a cloud — its sample density, the noise of its
-// positions along the normal, the angular noise of its normals — and picks sigma_f, sigma_g and
-// the passes by one documented rule (docs/auto.md, which also shows the evaluation behind it).
-//
-// Two lengths appear here. The rule is written in "area spacings" (the square root of the
-// surface area per point, which --auto measures itself and which noise does not inflate); the
-// parameters it returns are in mean surfel radii, pnf's one spacing (pnf/mean_radius.hpp), like
-// every other FilterParams. The lengths in model units are the rule's: sigma_f in mean radii
-// times the mean radius is sigma_f in area spacings times the area spacing.
+// Two lengths appear here. The rule (pnf/choose_filter_params.hpp) is written in "area spacings"
+// (the square root of the surface area per point, which estimate_data measures itself and which
+// noise does not inflate); the mean radius is pnf's one spacing (pnf/mean_radius.hpp), the unit
+// of every FilterParams.
 #pragma once
 
 #include <cstddef>
-#include <string>
-#include <vector>
 
 #include "pnf/cloud_view.hpp"
-#include "pnf/filter_params.hpp"
-#include "pnf/normal_filter.hpp"  // RadiusSource
-#include "pnf/point_cloud.hpp"
+#include "pnf/filter_summary.hpp"  // RadiusSource
 
 namespace pnf {
 
@@ -112,86 +103,5 @@ struct DataEstimate {
 // when the mean radius cannot be estimated.
 // Thread safety: may be called concurrently.
 DataEstimate estimate_data(const CloudView& cloud);
-
-// One estimate of a whole cloud from the estimates of its parts (a distributed run's ranks, each
-// estimating its own slice): the points, samples and edge fits add up; the crease lengths add
-// up as lengths (each part's is per the square root of its own area); the mean radius is
-// averaged over the points, the crease sharpness over the edge fits; every other field is
-// averaged, weighted by the samples. Parts with
-// no samples count only their points. Throws pnf::Error(invalid_input) when no part has samples.
-// Thread safety: pure function.
-DataEstimate pool_estimates(const std::vector<DataEstimate>& parts);
-
-// The outcome of the rule: parameters ready for NormalFilter::run, what they came from, and the
-// rule as one line of text for reports.
-struct AutoChoice {
-  FilterParams params;  // units radius, mean_radius = estimate.mean_radius (model units)
-  DataEstimate estimate;
-  std::string rule;  // e.g. "noise 0.48 spacings, normals 9.1 deg -> sigma_f 4, sigma_g 1.2, ..."
-  // Where improve_normals_auto judged the passes (below): what the judge measured and kept.
-  std::string judged;
-};
-
-// The rule (docs/auto.md), with p = position_noise / area_spacing, sigmas in area spacings
-// (then converted to mean radii: times area_spacing / mean_radius), "edges" meaning
-// crease_length >= 0.15 (not a share of the samples, which falls as the density grows), or on a
-// flat shape normal_crease_length >= 0.15 (faint creases: then as flat faces between gentle
-// creases), "curved" curved_share >= 15%, and g(p) = min(0.2 + 1.5 p, sqrt(0.2^2 + (2 p)^2)):
-//   p > 3 (noise hides the edges): sigma_f 8.5, feature term off (sigma_g 1e6), 14 passes;
-//   input normals whose errors are independent of the positions (normal_position_coupling and
-//   normal_error_correlation both under 0.35) on noisy positions (p >= 0.05), on curved shapes
-//   or flat faces between sharp creases (crease_sharpness from 0.06): one pass (two from
-//   normal_noise_deg 9 up), sigma_f 4 and sigma_g 2 with edges, sigma_f 8 and the feature term
-//   off on smooth curved shapes (flat faces with gentle creases or none: the lines below);
-//   edges, flat faces: sigma_f 6.5, sigma_g g(p), 8 passes (4 between gentle creases,
-//   crease_sharpness under 0.06, when normal_noise_deg is under 9);
-//   edges, curved faces: sigma_f min(1.6 + 6 sqrt(p), 12), sigma_g g(p); 8 passes when
-//     p < 0.05, else with crease_length from 3.5 (small features) floor(1.1 / p) within [2, 8],
-//     below it 4;
-//   smooth, flat: sigma_f 8, sigma_g 0.2 + 3 p (pnf's rule, not the paper's: a crease too faint
-//     to measure is kept rather than blurred), 8 passes;
-//   smooth, curved: sigma_f 8, feature term off; 0 passes (the input is kept) when p < 0.05 and
-//     normal_noise_deg < 0.6; when p < 0.05 and normal_error_correlation >= 0.2 instead sigma_f
-//     3.3, sigma_g g(p), 1 pass (the clean positions re-derive already-smoothed normals);
-//     else 1 pass when normal_noise_deg < 3, else 2 (also without normals);
-//   always: stop_change_deg 0.01 (passes end once the normals move less on average).
-// The constants and their reasons are in choose_filter_params.cpp. Throws
-// pnf::Error(invalid_argument) when area_spacing or mean_radius is not > 0 and finite.
-// Thread safety: pure function.
-AutoChoice choose_filter_params(const DataEstimate& estimate);
-
-// estimate_data then the rule above.
-AutoChoice choose_filter_params(const CloudView& cloud);
-
-// Whether the choice's estimate shows input normals whose errors are independent of the
-// positions and of each other (normal_position_coupling and normal_error_correlation both under
-// 0.35, normal_noise_deg from 0.6, p up to 3; on clean positions, p < 0.05, the correlation
-// under 0.1), in 2000 points or more: such normals (a scanner's, a mesh's) defeat the rule's
-// lines for PCA normals, so improve_normals_auto judges the rule's independent-errors setting
-// beside the rule's own (docs/auto.md).
-// Thread safety: pure function.
-bool independent_normal_errors(const AutoChoice& choice);
-
-// What improve_normals_auto did.
-struct AutoRun {
-  // The choice, with params.iterations the passes kept (0: the input normals were kept).
-  AutoChoice choice;
-  FilterSummary summary;  // the filter's run (passes_run: the passes tried)
-  int passes_kept = 0;
-  // The judge's RMS angle (degrees) to the surface fitted to the positions, of the input normals
-  // and after each pass; empty when no pass ran or no fit was smooth enough to judge.
-  std::vector<double> judged_rms_deg;
-};
-
-// `pnf filter --auto` in one call: choose_filter_params(cloud), then the chosen
-// passes, each judged against the normals of local quadric fits to the positions (a jet fit of
-// order 2, without the input normals) at the samples where the fit is smooth; the pass whose
-// normals agree best with them is kept, and the input normals (normalised) when none beats them,
-// so on the judged parts of the surface --auto never returns normals further from the positions'
-// surface than its input (docs/auto.md). Writes N unit normals into normals_out (N rows; it may
-// be the cloud's own normals view). A stop_change_deg >= 0 replaces the rule's stop rule (0: off).
-// Throws as choose_filter_params and NormalFilter::run do.
-AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
-                             const ProgressCallback& progress = {}, double stop_change_deg = -1);
 
 }  // namespace pnf
