@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <numeric>
+#include <vector>
 
 #include "pnf/bounding_box.hpp"
 
@@ -67,6 +68,30 @@ std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Ve
     return canonical_before(normals->at(a), normals->at(b));
   });
   return order;
+}
+
+std::vector<std::uint32_t> ranks_of(const std::vector<std::uint32_t>& order) {
+  std::vector<std::uint32_t> rank(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = std::uint32_t(k);
+  return rank;
+}
+
+void sort_neighbours(std::size_t* ids, double* squared_distances, std::size_t k,
+                     const std::vector<std::uint32_t>& rank) {
+  struct Neighbour {
+    double squared_distance;
+    std::uint32_t rank;
+    std::size_t id;
+  };
+  std::vector<Neighbour> keyed(k);
+  for (std::size_t j = 0; j < k; ++j) keyed[j] = {squared_distances[j], rank[ids[j]], ids[j]};
+  std::sort(keyed.begin(), keyed.end(), [](const Neighbour& a, const Neighbour& b) {
+    return a.squared_distance != b.squared_distance ? a.squared_distance < b.squared_distance : a.rank < b.rank;
+  });
+  for (std::size_t j = 0; j < k; ++j) {
+    squared_distances[j] = keyed[j].squared_distance;
+    ids[j] = keyed[j].id;
+  }
 }
 
 }  // namespace pnf::detail

@@ -1,6 +1,7 @@
 // Orders points along a space-filling curve so that neighbours sit near each other in memory.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -33,5 +34,14 @@ std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p);
 // process orders the whole cloud.
 std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals = nullptr,
                                         const MortonFrame* frame = nullptr);
+
+// rank[i]: the place of point i in `order` (a permutation such as morton_order's).
+std::vector<std::uint32_t> ranks_of(const std::vector<std::uint32_t>& order);
+
+// Puts k neighbours (ids with their squared distances, as SpatialIndex::nearest_of_point gives
+// them, in the tree's order) nearest first, equal distances by rank[id] (ranks_of a curve order),
+// so that sums over them round alike whatever the input's row order and the tree's layout.
+void sort_neighbours(std::size_t* ids, double* squared_distances, std::size_t k,
+                     const std::vector<std::uint32_t>& rank);
 
 }  // namespace pnf::detail

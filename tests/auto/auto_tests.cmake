@@ -2,6 +2,7 @@
 # included into the single test executable (the CLI cases skip when PNF_CLI_PATH is empty).
 # auto_params_test: the estimators; choose_filter_params_test: the rule and `pnf filter --auto`;
 # auto_params_creases_test: issue 14 (rare creases, choices independent of the density);
+# auto_row_order_test: the same estimate, choice and normals whatever the input's row order;
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
 # judged_pass_budget_test: the passes the judge may run; auto_real_meshes_test: --auto on the
@@ -11,6 +12,7 @@
 list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/auto_params_creases_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/auto_row_order_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/choose_filter_params_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/crease_evidence_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/independent_errors_test.cpp

@@ -11,6 +11,7 @@
 #include "crease_clouds.hpp"
 #include "pnf/improve_normals_auto.hpp"
 #include "spatial/spatial_index.hpp"
+#include "spatial/spatial_order.hpp"
 #include "test_clouds.hpp"
 
 namespace pnf::test {
@@ -27,7 +28,7 @@ std::vector<double> rows(const std::vector<Vec3>& normals) {
 detail::SurfaceJudge judge_of(const std::vector<Vec3>& positions, int neighbours, double width) {
   std::vector<double> xyz = rows(positions);
   const detail::SpatialIndex index(std::move(xyz), detail::SpatialIndex::Layout::any_order);
-  return detail::SurfaceJudge(index, 2000, neighbours, width);
+  return detail::SurfaceJudge(index, detail::morton_order(Vec3ArrayView(positions)), 2000, neighbours, width);
 }
 
 // Each normal tilted by exactly `degrees` about a random tangent direction.

@@ -17,7 +17,7 @@ namespace pnf {
 // What estimate_data measured. All lengths are Euclidean, in model units (never squared).
 struct DataEstimate {
   std::size_t points = 0;   // N
-  std::size_t samples = 0;  // points whose neighbourhoods were fitted (spread evenly through the cloud)
+  std::size_t samples = 0;  // points whose neighbourhoods were fitted (spread evenly along the Morton curve)
   // The mean surfel radius, pnf's one spacing (pnf::mean_radius): the mean of the cloud's radius
   // property when it has one (radius_source property), else estimate_mean_radius
   // (radius_source estimate). The same value `pnf info` and the filter's radius units use.
@@ -94,8 +94,10 @@ struct DataEstimate {
 
 // Measures `cloud` (N positions, N >= 16, finite, float or double views of any stride; normals
 // optional — with none, normal_noise_deg is -1; radii optional, finite and > 0). Deterministic:
-// the same cloud gives the same estimate on every machine and thread count, and a float view
-// the estimate of the same values as doubles. Cost: a kd-tree over the N points plus at most about 7 million
+// the same cloud gives the same estimate on every machine and thread count and in any row
+// order (the samples are spread along the Morton curve, each one's neighbours taken nearest
+// first with ties in curve order; only points tied with the k-th nearest, as on an exact grid,
+// may be taken differently), and a float view the estimate of the same values as doubles. Cost: a kd-tree over the N points plus at most about 7 million
 // neighbour look-ups and fits, whatever N (up to 4 scales for the noise, up to 3 for the
 // features; about 2 million and 0.3 s on 2 cores for 100k clean points).
 // Throws pnf::Error(invalid_input) for N < 16, a non-finite coordinate or a bad radius (naming

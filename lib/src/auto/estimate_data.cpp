@@ -99,8 +99,10 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   detail::check_cloud(cloud, estimate_requirements());
   const std::size_t count = cloud.size();
   // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
-  // The points stay in input order (the samples are spread over it), so the tree keeps its own
-  // copy in leaf order.
+  // The points stay in input order (the normals come in it), so the tree keeps its own copy in
+  // leaf order. The samples are spread along the Morton curve and each one's neighbours taken in
+  // canonical order (sort_neighbours), so that the estimate does not depend on the input's row
+  // order.
   const Vec3 centre = bounding_box(cloud.positions).centre();
   std::vector<double> centred_input(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
@@ -109,6 +111,8 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   }
   const detail::SpatialIndex index(std::move(centred_input), detail::SpatialIndex::Layout::any_order);
   const std::vector<double>& centred = index.positions();
+  const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
+  const std::vector<std::uint32_t> rank = detail::ranks_of(curve);
   // Fits every sample at one scale, in parallel. The calling thread (OpenMP's master) asks
   // `poll`; the k-th scale fitted reports within [1 - 2^-k, 1 - 2^-(k+1)) of the fits (how many
   // scales run depends on what the first ones find).
@@ -130,9 +134,10 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
 #pragma omp for schedule(dynamic, 16)
       for (long long s = 0; s < static_cast<long long>(samples); ++s) {
         if (stop.load(std::memory_order_relaxed)) continue;
-        // Evenly spread, deterministic: sample s is point floor(s N / samples).
-        const std::size_t self = std::size_t(s) * count / samples;
+        // Evenly spread, deterministic: sample s is point floor(s N / samples) along the curve.
+        const std::size_t self = curve[std::size_t(s) * count / samples];
         index.nearest_of_point(self, std::size_t(neighbours), ids.data(), distances.data());
+        detail::sort_neighbours(ids.data(), distances.data(), std::size_t(neighbours), rank);
         fits[std::size_t(s)] = fit_sample(centred, cloud, self, ids.data(), distances.data(), neighbours);
         const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
         if (poll && omp_get_thread_num() == 0 &&
@@ -157,10 +162,8 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   estimate.points = count;
   // The one mean radius, sampled as the filter samples it (along the Morton order), so that the
   // value is the filter's and `pnf info`'s bit for bit.
-  const MeanRadius radius = detail::resolve_mean_radius(0, cloud.radii, count, [&] {
-    const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
-    return detail::estimate_mean_radius(index, &curve);
-  });
+  const MeanRadius radius = detail::resolve_mean_radius(
+      0, cloud.radii, count, [&] { return detail::estimate_mean_radius(index, &curve); });
   estimate.mean_radius = radius.value;
   estimate.radius_source = radius.source;
   const int scales = int(std::size(kScales));
@@ -230,7 +233,7 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
   if (judge) {
     const detail::JudgeGeometry g = detail::judge_geometry(estimate);
-    *judge = detail::SurfaceJudge(index, g.samples, g.neighbours, g.width);
+    *judge = detail::SurfaceJudge(index, curve, g.samples, g.neighbours, g.width);
   }
   if (cloud.has_normals()) {
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;

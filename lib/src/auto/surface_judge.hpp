@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -25,12 +26,15 @@ class SpatialIndex;
 class SurfaceJudge {
  public:
   SurfaceJudge() = default;
-  // Samples `samples` points spread evenly through the index's points (point floor(s N /
-  // samples)), each with its `neighbours` nearest points (the sample included); `width` is the
-  // weight's width on the residual (model units). The index must keep the cloud's order
-  // (SpatialIndex::Layout::any_order), as the normals judged later come in it. A distributed
-  // run builds it on rank 0 over the whole cloud (lib/src/mpi/choose_filter_params_mpi.cpp).
-  SurfaceJudge(const SpatialIndex& index, std::size_t samples, int neighbours, double width);
+  // Samples `samples` points spread evenly along `curve` (the points' morton_order; sample s is
+  // point curve[floor(s N / samples)]), each with its `neighbours` nearest points (the sample
+  // included, nearest first, ties in curve order), so that the judge does not depend on the
+  // input's row order; `width` is the weight's width on the residual (model units). The index
+  // must keep the cloud's order (SpatialIndex::Layout::any_order), as the normals judged later
+  // come in it. A distributed run builds it on rank 0 over the whole cloud
+  // (lib/src/mpi/choose_filter_params_mpi.cpp).
+  SurfaceJudge(const SpatialIndex& index, const std::vector<std::uint32_t>& curve, std::size_t samples, int neighbours,
+               double width);
 
   bool empty() const { return ids_.empty(); }
   std::size_t size() const { return ids_.size(); }
