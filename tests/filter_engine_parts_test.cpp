@@ -128,3 +128,38 @@ TEST(FilterEngineParts, TwoPartsInTwoThreadsEqualOnePart) {
 }
 
 }  // namespace
+
+namespace {
+
+// The stop rule's change adds whole quanta, so parts summed in any grouping give the whole's
+// total bit for bit (a sum of doubles would round differently), and it is the plain sum of the
+// angles to within half a quantum a point.
+TEST(StopRuleChange, PartsAddUpToTheWholeExactlyInAnyGrouping) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0, 1);
+  const std::size_t n = 10007;
+  std::vector<double> a(3 * n), b(3 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double u[3] = {g(rng), g(rng), g(rng)}, v[3];
+    for (int c = 0; c < 3; ++c) v[c] = u[c] + 0.05 * g(rng);
+    const double lu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    const double lv = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (int c = 0; c < 3; ++c) a[3 * i + c] = u[c] / lu, b[3 * i + c] = v[c] / lv;
+  }
+  const double whole = detail::change_quanta(a, b, n);
+  double plain = 0;
+  for (std::size_t i = 0; i < n; ++i) plain += angle_deg({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
+  EXPECT_NEAR(whole / detail::kChangeQuantaPerDegree, plain, 0.5 * double(n) / detail::kChangeQuantaPerDegree);
+  for (const std::size_t parts : {2, 3, 7}) {
+    double total = 0;
+    for (std::size_t p = parts; p-- > 0;) {  // last part first: another order than the whole's
+      const std::size_t first = p * n / parts, last = (p + 1) * n / parts;
+      const std::vector<double> pa(a.begin() + 3 * first, a.begin() + 3 * last);
+      const std::vector<double> pb(b.begin() + 3 * first, b.begin() + 3 * last);
+      total += detail::change_quanta(pa, pb, last - first);
+    }
+    EXPECT_EQ(total, whole) << parts << " parts";
+  }
+}
+
+}  // namespace

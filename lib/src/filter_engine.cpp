@@ -22,16 +22,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// Sum of the angles in degrees between the first `count` rows of two N by 3 arrays of unit
-// vectors (atan2: exact near 0).
-double sum_angle_deg(const std::vector<double>& a, const std::vector<double>& b, std::size_t count) {
-  double sum = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    sum += geometry::angle_radians({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
-  }
-  return sum * 180.0 / geometry::kPi;
-}
-
 // The share of the list stage's progress given to the count (the rest is the fill): the two
 // scan the same candidates; the fill also writes the lists. Dog setting: 0.77 s against 1.17 s
 // (docs/performance.md).
@@ -92,9 +82,9 @@ bool end_of_pass(FilterBackend* backend, const FilterParams& params, const Progr
   }
   if (params.stop_change_deg > 0) {
     if (!part) current = backend->download_normals();
-    double totals[2] = {owned > 0 ? sum_angle_deg(previous, current, owned) : 0.0, double(owned)};
+    double totals[2] = {owned > 0 ? change_quanta(previous, current, owned) : 0.0, double(owned)};
     if (part && part->sum_over_processes) part->sum_over_processes(totals, 2);
-    summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / totals[1] : 0.0);
+    summary.mean_change_deg.push_back(totals[1] > 0 ? totals[0] / kChangeQuantaPerDegree / totals[1] : 0.0);
     if (summary.mean_change_deg.back() < params.stop_change_deg) return true;
     previous.swap(current);
   }
@@ -420,6 +410,16 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
     normals_out.set(prepared.order[k], {n[0] / len, n[1] / len, n[2] / len});
   }
   return summary;
+}
+
+double change_quanta(const std::vector<double>& a, const std::vector<double>& b, std::size_t count) {
+  std::int64_t quanta = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double radians =
+        geometry::angle_radians({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
+    quanta += std::llround(radians * (180.0 / geometry::kPi) * kChangeQuantaPerDegree);
+  }
+  return double(quanta);
 }
 
 }  // namespace pnf::detail
