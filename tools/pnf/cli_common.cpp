@@ -9,8 +9,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 
 #include "pnf/options_text.hpp"
+#include "progress_text.hpp"
 
 namespace pnf::cli {
 namespace {
@@ -20,6 +22,10 @@ namespace {
 volatile std::sig_atomic_t interrupted = 0;
 
 void on_interrupt(int) { interrupted = 1; }
+
+// Where stderr is not a terminal (a batch log; rank 0 under mpirun), a progress line at most this
+// often, the first only after as long: a run shorter than this prints none.
+constexpr double kProgressLineSeconds = 10;
 
 // The first SIGINT or SIGTERM asks the run to stop at its next progress report; SA_RESETHAND puts the
 // default action back, so a second one ends the process at once.
@@ -52,30 +58,22 @@ int exit_code(const Error& e, Stage stage) {
 
 ProgressCallback progress_bar(bool quiet) {
   stop_on_interrupt();
-  if (quiet || !isatty(STDERR_FILENO)) return [](const PassProgress&) { return interrupted == 0; };
+  if (quiet) return [](const PassProgress&) { return interrupted == 0; };
+  if (!isatty(STDERR_FILENO)) {
+    auto lines = std::make_shared<ProgressLines>(stderr, kProgressLineSeconds);
+    return [lines](const PassProgress& p) {
+      (*lines)(p);
+      return interrupted == 0;
+    };
+  }
   return [](const PassProgress& p) {
     constexpr int kWidth = 30;
-    // The passes show the passes done of all, within a pass too; the other stages their own
-    // share done.
-    const double fraction = std::clamp(p.fraction, 0.0, 1.0);
-    const double done = p.stage == ProgressStage::pass        ? (p.passes > 0 ? double(p.pass) / p.passes : 1.0)
-                        : p.stage == ProgressStage::filtering ? (p.passes > 0 ? (p.pass + fraction) / p.passes : 1.0)
-                                                              : fraction;
-    const int filled = int(kWidth * std::min(done, 1.0));
-    char label[32];
-    if (p.stage == ProgressStage::pass) {
-      std::snprintf(label, sizeof label, "pass %d/%d", p.pass, p.passes);
-    } else if (p.stage == ProgressStage::filtering) {
-      std::snprintf(label, sizeof label, "pass %d/%d", p.pass + 1, p.passes);
-    } else {
-      std::snprintf(label, sizeof label, "%s %3.0f%%", to_string(p.stage), 100 * done);
-    }
-    std::fprintf(stderr, "\r  %-14s [%s%s] %.2f s ", label, std::string(filled, '#').c_str(),
+    const ProgressText text = progress_text(p);
+    const int filled = int(kWidth * text.done);
+    std::fprintf(stderr, "\r  %-14s [%s%s] %.2f s ", text.label.c_str(), std::string(filled, '#').c_str(),
                  std::string(kWidth - filled, ' ').c_str(), p.seconds);
-    const bool last =
-        p.stage == ProgressStage::pass
-            ? p.pass == p.passes
-            : p.stage == ProgressStage::estimate && done >= 1;
+    const bool last = p.stage == ProgressStage::pass ? p.pass == p.passes
+                                                     : p.stage == ProgressStage::estimate && text.done >= 1;
     if (last || interrupted) {
       std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
     }
