@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `mpirun -np P pnf filter` against one process (README, "Beyond one machine"): the same output
 # bytes, normals included (same_bytes prints what differs otherwise); the rank-0 path for ascii input;
-# --auto (one process's choice and bytes, rows in random order); a truncated file (one rank's
+# --auto (one process's choice and bytes, rows in random order; the same rows from the file's
+# own order); a truncated file (one rank's
 # slice unreadable), a device error on one rank and a rank killed in its passes end the job with
 # nothing written and the input untouched.
 # Usage: cli_mpi_test.sh PNF MPIEXEC WORK_DIR
@@ -57,6 +58,12 @@ for p in 2 3; do
   [ -n "$(choice auto1.log)" ] && [ "$(choice "auto$p.log")" = "$(choice auto1.log)" ] ||
     fail "--auto on $p ranks printed: $(choice "auto$p.log"); one process: $(choice auto1.log)"
 done
+echo "== --auto: the rows in the file's own order give the same choice and the same rows"
+"$pnf" filter small/house_noisy.ply auto_ordered.ply --auto 2>auto_ordered.log ||
+  { cat auto_ordered.log; fail "--auto on the rows in file order"; }
+[ "$(choice auto_ordered.log)" = "$(choice auto1.log)" ] ||
+  fail "--auto printed $(choice auto_ordered.log) on the rows in file order, $(choice auto1.log) shuffled"
+python3 "$here/same_rows.py" auto_ordered.ply auto1.ply || fail "--auto's rows depend on the input's row order"
 
 echo "== the summary, once"
 run -np 2 "$pnf" filter rich.ply s.ply --device reference 2>summary.log
