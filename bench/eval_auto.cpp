@@ -366,7 +366,8 @@ int main(int argc, char** argv) {
           << ", \"crease_sharpness\": " << e.crease_sharpness
           << ", \"normal_crease_length\": " << e.normal_crease_length
           << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
-          << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"grid\": [";
+          << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"judged\": \"" << json_escape(o.choice.judged)
+          << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];
         out << (g ? ", " : "") << "[" << s.sigma_f << ", " << s.sigma_g << ", " << s.passes << ", " << s.rms << "]";
