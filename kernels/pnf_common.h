@@ -28,7 +28,7 @@ typedef float16 pnf_lane;
 #else
 #error "PNF_LANES must be 1, 4, 8 or 16"
 #endif
-typedef uint pnf_index;   /* a point id: 32 bits, clouds are limited to 2^32 - 1 points */
+typedef uint pnf_index;   /* a point id: 32 bits; clouds are limited to 2^32 - 2 points (cloud_checks.hpp) */
 typedef ulong pnf_offset; /* a CSR offset: 64 bits, the pair count can pass 2^32 */
 #define pnf_exp exp
 #define pnf_sqrt sqrt
