@@ -148,7 +148,8 @@ TEST(StopRuleChange, PartsAddUpToTheWholeExactlyInAnyGrouping) {
   }
   const double whole = detail::change_quanta(a, b, n);
   double plain = 0;
-  for (std::size_t i = 0; i < n; ++i) plain += angle_deg({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
+  for (std::size_t i = 0; i < n; ++i)
+    plain += angle_deg({a[3 * i], a[3 * i + 1], a[3 * i + 2]}, {b[3 * i], b[3 * i + 1], b[3 * i + 2]});
   EXPECT_NEAR(whole / detail::kChangeQuantaPerDegree, plain, 0.5 * double(n) / detail::kChangeQuantaPerDegree);
   for (const std::size_t parts : {2, 3, 7}) {
     double total = 0;

@@ -85,8 +85,9 @@ const FilterParams kDefaultParams{};
 py::object improve_normals(py::handle points, py::handle normals, double sigma_f, double sigma_g, int iterations,
                            const std::string& units, std::optional<double> mean_radius, bool automatic,
                            const std::optional<std::string>& device, const std::string& backend,
-                           const py::object& progress, bool progress_stages, py::handle radii, std::optional<double> stop_change_deg,
-                           py::handle out_array, std::optional<double> max_seconds) {
+                           const py::object& progress, bool progress_stages, py::handle radii,
+                           std::optional<double> stop_change_deg, py::handle out_array,
+                           std::optional<double> max_seconds) {
   FilterParams params;
   params.sigma_f = sigma_f;
   params.sigma_g = sigma_g;
@@ -247,7 +248,8 @@ py::dict view_info(py::handle array) {
 }
 
 void bind_results(py::module_& m) {
-  py::class_<DataEstimate>(m, "DataEstimate", "What choose_params measured (pnf/estimate_data.hpp); lengths in model units.")
+  py::class_<DataEstimate>(m, "DataEstimate",
+                           "What choose_params measured (pnf/estimate_data.hpp); lengths in model units.")
       .def_readonly("points", &DataEstimate::points)
       .def_readonly("samples", &DataEstimate::samples)
       .def_readonly("mean_radius", &DataEstimate::mean_radius)
@@ -328,7 +330,8 @@ PYBIND11_MODULE(_pnf, m) {
   // Defaults and docstrings live once, in python/pnf/__init__.py, which calls these with every argument.
   m.def("improve_normals", &improve_normals, "points"_a, "normals"_a, "sigma_f"_a, "sigma_g"_a, "iterations"_a,
         "units"_a, "mean_radius"_a.none(true), "auto"_a, "device"_a.none(true), "backend"_a, "progress"_a.none(true),
-        "progress_stages"_a, "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true), "max_seconds"_a.none(true));
+        "progress_stages"_a, "radii"_a.none(true), "stop_change_deg"_a.none(true), "out"_a.none(true),
+        "max_seconds"_a.none(true));
   m.def("choose_params", &choose_params, "points"_a, "normals"_a.none(true), "device"_a.none(true), "backend"_a);
   m.def("estimate_normals", &estimate, "points"_a, "k"_a, "orient"_a, "viewpoint"_a);
   m.def(

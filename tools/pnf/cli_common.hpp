@@ -34,11 +34,12 @@ int exit_code(const Error& e, Stage stage);
 
 // A progress callback that, unless `quiet`, draws a one-line bar on stderr when stderr is a
 // terminal (the neighbour lists, each pass, estimate_normals' and --auto's stages), and otherwise
-// (a batch log; rank 0 under mpirun) writes a line "pnf: pass 3/8, 40% of the passes (12.3 s)"
-// at most every 10 s, none in a shorter run (ProgressLines). Making it installs a SIGINT / SIGTERM handler: after the first such signal the
-// callback returns false, so the run stops at its next report (after the current pass, or within
-// about 0.2 s while lists are built or normals estimated) with Error(cancelled) (exit
-// kCancelled, nothing written); a second signal ends the process at once.
+// (a batch log; rank 0 under mpirun) writes a line "pnf: pass 3/8, 40% of the passes (12.3 s)" at
+// most every 10 s, none in a shorter run (ProgressLines). Making it installs a SIGINT / SIGTERM
+// handler: after the first such signal the callback returns false, so the run stops at its next
+// report (after the current pass, or within about 0.2 s while lists are built or normals estimated)
+// with Error(cancelled) (exit kCancelled, nothing written); a second signal ends the process at
+// once.
 ProgressCallback progress_bar(bool quiet);
 
 // Runs `body`, turning pnf::Error into a message and exit code (stage from `stage`, which body

@@ -93,17 +93,16 @@ struct DataEstimate {
 };
 
 // Measures `cloud` (N positions, N >= 16, finite, float or double views of any stride; normals
-// optional — with none, normal_noise_deg is -1; radii optional, finite and > 0). Deterministic:
-// the same cloud gives the same estimate on every machine and thread count and in any row
-// order (the samples are spread along the Morton curve, each one's neighbours taken nearest
-// first with ties in curve order; only points tied with the k-th nearest, as on an exact grid,
-// may be taken differently), and a float view the estimate of the same values as doubles. Cost: a kd-tree over the N points plus at most about 7 million
-// neighbour look-ups and fits, whatever N (up to 4 scales for the noise, up to 3 for the
-// features; about 2 million and 0.3 s on 2 cores for 100k clean points).
-// Throws pnf::Error(invalid_input) for N < 16, a non-finite coordinate or a bad radius (naming
-// the vertex), when no neighbourhood could be fitted (all points on a line or one spot), or
-// when the mean radius cannot be estimated.
-// Thread safety: may be called concurrently.
+// optional — with none, normal_noise_deg is -1; radii optional, finite and > 0). Deterministic: the
+// same cloud gives the same estimate on every machine and thread count and in any row order (the
+// samples are spread along the Morton curve, each one's neighbours taken nearest first with ties in
+// curve order; only points tied with the k-th nearest, as on an exact grid, may be taken
+// differently), and a float view the estimate of the same values as doubles. Cost: a kd-tree over
+// the N points plus at most about 7 million neighbour look-ups and fits, whatever N (up to 4 scales
+// for the noise, up to 3 for the features; about 2 million and 0.3 s on 2 cores for 100k clean
+// points). Throws pnf::Error(invalid_input) for N < 16, a non-finite coordinate or a bad radius
+// (naming the vertex), when no neighbourhood could be fitted (all points on a line or one spot), or
+// when the mean radius cannot be estimated. Thread safety: may be called concurrently.
 DataEstimate estimate_data(const CloudView& cloud);
 
 }  // namespace pnf
