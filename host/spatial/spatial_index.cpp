@@ -50,8 +50,9 @@ flann::SearchParams exact_search() {
 }
 
 // Points are searched a block at a time: consecutive points along the curve whose bounding box
-// is at most ListTuning::block_extent_in_radii (default 1) of the radius across. One kd-tree search per block gathers every
-// point within radius + the block's half-diagonal (a superset of each member's neighbours);
+// is at most ListTuning::block_extent_in_radii (default 1) of the radius across. One kd-tree
+// search per block gathers every point within radius + the block's half-diagonal (a superset of
+// each member's neighbours);
 // each member then keeps the candidates within the radius, checked exactly. This replaces a
 // tree descent per point by a short, vectorisable scan, and gives ascending (memory-ordered)
 // lists. Blocks one radius across keep the candidates near three times the neighbours on a
