@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "auto/sample_neighbourhoods.hpp"
 #include "auto/surface_judge.hpp"
 #include "crease_clouds.hpp"
 #include "pnf/improve_normals_auto.hpp"
@@ -28,7 +29,10 @@ std::vector<double> rows(const std::vector<Vec3>& normals) {
 detail::SurfaceJudge judge_of(const std::vector<Vec3>& positions, int neighbours, double width) {
   std::vector<double> xyz = rows(positions);
   const detail::SpatialIndex index(std::move(xyz), detail::SpatialIndex::Layout::any_order);
-  return detail::SurfaceJudge(index, detail::morton_order(Vec3ArrayView(positions)), 2000, neighbours, width);
+  const std::vector<std::uint32_t> curve = detail::morton_order(Vec3ArrayView(positions));
+  const detail::SampleNeighbourhoods n =
+      detail::sample_neighbourhoods(index, curve, detail::ranks_of(curve), 2000, neighbours, {}, "test");
+  return detail::SurfaceJudge(index.positions(), n, width);
 }
 
 // Each normal tilted by exactly `degrees` about a random tangent direction.
@@ -190,7 +194,7 @@ TEST(ImproveNormalsAuto, CanBeCancelledWithinAJudgedPass) {
 
 // A cancel during the estimate's fits: the first fit report comes at once, so this does not
 // depend on the machine's speed.
-TEST(ImproveNormalsAuto, CanBeCancelledWhileFitting) {
+TEST(ImproveNormalsAuto, CanBeCancelledWithinTheEstimatesSearches) {
   const PointCloud s = sphere(20000, 1.0, 3);
   std::vector<Vec3> out(s.size(), Vec3{0, 0, 0});
   int reports = 0;
@@ -204,9 +208,9 @@ TEST(ImproveNormalsAuto, CanBeCancelledWhileFitting) {
     FAIL() << "not cancelled";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
-    EXPECT_NE(std::string(e.what()).find("fitting"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("searching the samples' neighbours"), std::string::npos) << e.what();
   }
-  EXPECT_EQ(reports, 2);  // the start, then the first fit report
+  EXPECT_EQ(reports, 3);  // the start, the first search's start, then its first report within
   EXPECT_EQ(out[0][0], 0.0);
 }
 

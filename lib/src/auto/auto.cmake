@@ -4,6 +4,7 @@
 list(APPEND PNF_AUTO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/auto/estimate_data.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/sample_fit.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/sample_neighbourhoods.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/choose_filter_params.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/crease_evidence.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/surface_judge.cpp

@@ -2,13 +2,11 @@
 // parameters is choose_filter_params.cpp). Local quadric fits at a few neighbourhood sizes on a
 // sample of the points give the area spacing, the position noise, the share of samples at an
 // edge, the curved share and the input normals' noise.
-#include <omp.h>
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "cloud_checks.hpp"
@@ -18,6 +16,7 @@
 #include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 #include "sample_fit.hpp"
+#include "sample_neighbourhoods.hpp"
 #include "spatial/spatial_index.hpp"
 #include "spatial/spatial_order.hpp"
 #include "surface_judge.hpp"
@@ -31,11 +30,6 @@ namespace {
 // fitted radius doubles. The cylinder holds about a quarter of them: 16 points at the smallest.
 constexpr int kScales[] = {64, 256, 1024, 4096};
 constexpr int kScaleStep = 4;  // each scale's neighbours over the last's
-// At most this many neighbour look-ups per scale (samples x neighbours): bounds the cost on
-// any N while leaving hundreds of samples for the medians even at the largest scale.
-constexpr std::size_t kMaxLookupsPerScale = 1000000;
-// Never more samples than this at any scale: a median of 4000 is good to about 2%.
-constexpr std::size_t kMaxSamples = 4000;
 // A scale is trusted when the noise it measures is below this fraction of its cylinder radius:
 // then the neighbour ball holds the noisy layer whole (more than 5 sigma of margin) and PCA finds
 // the surface's plane. Where noise fills the ball, the fit sees a blob and reports about 0.6 of
@@ -113,43 +107,37 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   const std::vector<double>& centred = index.positions();
   const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
   const std::vector<std::uint32_t> rank = detail::ranks_of(curve);
-  // Fits every sample at one scale, in parallel. The calling thread (OpenMP's master) asks
-  // `poll`; the k-th scale fitted reports within [1 - 2^-k, 1 - 2^-(k+1)) of the fits (how many
-  // scales run depends on what the first ones find).
-  int scales_fitted = 0;
-  std::chrono::steady_clock::time_point last_poll{};  // the first sample the master fits asks
-  auto fit_scale = [&](int scale) {
+  // Each scale's samples are searched once (sample_neighbourhoods) and fitted once, in parallel:
+  // the upper fits may fall on the noise scale, the judge on either. The calling thread (OpenMP's
+  // master) asks `poll` during the searches; the k-th scale searched reports within
+  // [1 - 2^-k, 1 - 2^-(k+1)) of the work (how many scales run depends on what the first ones find).
+  using Scale = std::pair<std::size_t, int>;  // samples, and neighbours with the sample
+  std::map<Scale, detail::SampleNeighbourhoods> searched;
+  std::map<Scale, std::vector<SampleFit>> fitted;
+  auto neighbourhoods_of = [&](std::size_t samples, int neighbours) -> const detail::SampleNeighbourhoods& {
+    const Scale key(std::min(samples, count), neighbours);
+    auto found = searched.find(key);
+    if (found != searched.end()) return found->second;
+    const int k = int(searched.size());
+    const double from = 1 - std::ldexp(1.0, -k), share = std::ldexp(1.0, -k - 1);
+    auto report = [&](double fraction) { return !poll || poll(from + share * fraction); };
+    return searched[key] =
+               detail::sample_neighbourhoods(index, curve, rank, key.first, neighbours, report, "estimate_data");
+  };
+  auto fit_scale = [&](int scale) -> const std::vector<SampleFit>& {
     const int neighbours = int(std::min<std::size_t>(std::size_t(scale), count - 1)) + 1;  // the sample too
-    const std::size_t samples =
-        std::min({count, kMaxSamples, std::max<std::size_t>(1, kMaxLookupsPerScale / std::size_t(neighbours))});
-    std::vector<SampleFit> fits(samples);
-    const double from = 1 - std::ldexp(1.0, -scales_fitted), share = std::ldexp(1.0, -scales_fitted - 1);
-    ++scales_fitted;
-    std::atomic<bool> stop{false};
-    std::atomic<std::size_t> done{0};
-#pragma omp parallel
-    {
-      std::vector<std::size_t> ids(static_cast<std::size_t>(neighbours));
-      std::vector<double> distances(static_cast<std::size_t>(neighbours));
-#pragma omp for schedule(dynamic, 16)
-      for (long long s = 0; s < static_cast<long long>(samples); ++s) {
-        if (stop.load(std::memory_order_relaxed)) continue;
-        // Evenly spread, deterministic: sample s is point floor(s N / samples) along the curve.
-        const std::size_t self = curve[std::size_t(s) * count / samples];
-        index.nearest_of_point(self, std::size_t(neighbours), ids.data(), distances.data());
-        detail::sort_neighbours(ids.data(), distances.data(), std::size_t(neighbours), rank);
-        fits[std::size_t(s)] = fit_sample(centred, cloud, self, ids.data(), distances.data(), neighbours);
-        const std::size_t finished = done.fetch_add(1, std::memory_order_relaxed) + 1;
-        if (poll && omp_get_thread_num() == 0 &&
-            std::chrono::steady_clock::now() - last_poll > std::chrono::milliseconds(100)) {
-          last_poll = std::chrono::steady_clock::now();
-          if (!poll(from + share * double(finished) / double(samples))) stop = true;
-        }
-      }
+    const Scale key(detail::samples_at_scale(count, neighbours), neighbours);
+    auto found = fitted.find(key);
+    if (found != fitted.end()) return found->second;
+    const detail::SampleNeighbourhoods& n = neighbourhoods_of(key.first, neighbours);
+    std::vector<SampleFit> fits(n.samples());
+#pragma omp parallel for schedule(dynamic, 16)
+    for (long long s = 0; s < static_cast<long long>(n.samples()); ++s) {
+      fits[std::size_t(s)] = fit_sample(centred, cloud, n.selves[std::size_t(s)], n.ids_of(std::size_t(s)),
+                                        n.squared_distances_of(std::size_t(s)), neighbours);
     }
-    if (stop) throw Error(ErrorCode::cancelled, "estimate_data: cancelled while fitting the samples");
     fits.erase(std::remove_if(fits.begin(), fits.end(), [](const SampleFit& f) { return !f.ok; }), fits.end());
-    return fits;
+    return fitted[key] = std::move(fits);
   };
   auto medians = [](const std::vector<SampleFit>& fits, double SampleFit::*field) {
     std::vector<double> values;
@@ -162,14 +150,14 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   estimate.points = count;
   // The one mean radius, sampled as the filter samples it (along the Morton order), so that the
   // value is the filter's and `pnf info`'s bit for bit.
-  const MeanRadius radius = detail::resolve_mean_radius(
-      0, cloud.radii, count, [&] { return detail::estimate_mean_radius(index, &curve); });
+  const MeanRadius radius =
+      detail::resolve_mean_radius(0, cloud.radii, count, [&] { return detail::estimate_mean_radius(index, &curve); });
   estimate.mean_radius = radius.value;
   estimate.radius_source = radius.source;
   const int scales = int(std::size(kScales));
   int chosen = -1;
   for (int i = 0; i < scales; ++i) {
-    const std::vector<SampleFit> fits = fit_scale(kScales[i]);
+    const std::vector<SampleFit>& fits = fit_scale(kScales[i]);
     if (fits.empty()) continue;
     chosen = i;
     estimate.samples = fits.size();
@@ -233,7 +221,8 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   estimate.curved_share = double(curved) / double(std::max<std::size_t>(1, smooth));
   if (judge) {
     const detail::JudgeGeometry g = detail::judge_geometry(estimate);
-    *judge = detail::SurfaceJudge(index, curve, g.samples, g.neighbours, g.width);
+    const int neighbours = int(std::min<std::size_t>(std::size_t(g.neighbours), count));
+    *judge = detail::SurfaceJudge(centred, neighbourhoods_of(g.samples, neighbours), g.width);
   }
   if (cloud.has_normals()) {
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
@@ -280,7 +269,7 @@ detail::JudgeGeometry detail::judge_geometry(const DataEstimate& estimate) {
   // estimate_data fits at one scale; a width that holds a sheet's own points: the clean floor's
   // residual (the quadric's third-order terms) and the one an edge fit is told by, in quadrature.
   g.neighbours = std::min(kScaleStep * estimate.fit_neighbours, kScales[std::size(kScales) - 1]) + 1;  // the sample too
-  g.samples = std::min(kMaxSamples, kMaxLookupsPerScale / std::size_t(std::max(g.neighbours, 1)));
+  g.samples = samples_at_scale(estimate.points, g.neighbours);
   const double floor = kResidualFloorPerSpacing * estimate.area_spacing;
   g.width = std::hypot(floor, kEdgeResidualPerNoise * estimate.position_noise);
   g.quarter_allowed = kEdgeResidualPerNoise * estimate.position_noise <= floor;

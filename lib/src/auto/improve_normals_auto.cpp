@@ -81,9 +81,9 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
                                                  std::to_string(normals_out.count) + " rows for " +
                                                  std::to_string(cloud.size()) + " points");
   }
-  // The estimate and the judge's neighbourhoods (about a second per 100k points) report as one
-  // stage, the fits about every 0.1 s (a cancel honoured there); the passes then report as the
-  // filter's do.
+  // The estimate and the judge's neighbourhoods (under a second per 100k points) report as one
+  // stage, their neighbour searches about every 0.1 s (a cancel honoured there); the passes then
+  // report as the filter's do.
   const auto start = std::chrono::steady_clock::now();
   auto estimate_stage = [&](double fraction) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

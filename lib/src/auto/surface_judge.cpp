@@ -7,8 +7,7 @@
 #include <numeric>
 
 #include "geometry.hpp"
-#include "spatial/spatial_index.hpp"
-#include "spatial/spatial_order.hpp"
+#include "sample_neighbourhoods.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -84,35 +83,21 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
 
 }  // namespace
 
-SurfaceJudge::SurfaceJudge(const SpatialIndex& index, const std::vector<std::uint32_t>& curve, std::size_t samples,
-                           int neighbours, double width)
+SurfaceJudge::SurfaceJudge(const std::vector<double>& centred, const SampleNeighbourhoods& neighbourhoods, double width)
     : width_(width) {
-  const std::vector<double>& centred = index.positions();
-  const std::size_t points = centred.size() / 3, count = points;
-  neighbours_ = int(std::min<std::size_t>(std::size_t(std::max(neighbours, 0)), points));
+  neighbours_ = neighbourhoods.neighbours;
   scored_ = neighbours_;
-  samples = std::min(samples, count);
+  const std::size_t samples = neighbourhoods.samples(), k = std::size_t(neighbours_);
   if (samples == 0 || neighbours_ < kMinNeighbours || !(width > 0)) return;
-  ids_.resize(samples);
-  offsets_.resize(samples * std::size_t(neighbours_) * 3);
-  const std::size_t k = std::size_t(neighbours_);
-  const std::vector<std::uint32_t> rank = ranks_of(curve);
-#pragma omp parallel
-  {
-    std::vector<std::size_t> ids(k);
-    std::vector<double> distances(k);
-#pragma omp for schedule(dynamic, 16)
-    for (long long s = 0; s < static_cast<long long>(samples); ++s) {
-      const std::size_t self = curve[std::size_t(s) * count / samples];
-      ids_[std::size_t(s)] = self;
-      index.nearest_of_point(self, k, ids.data(), distances.data());
-      // Nearest first, so that the first quarter of the rows is the next scale down's neighbourhood.
-      sort_neighbours(ids.data(), distances.data(), k, rank);
-      double* out = &offsets_[std::size_t(s) * k * 3];
-      for (std::size_t j = 0; j < k; ++j) {
-        const std::size_t id = ids[j];
-        for (int axis = 0; axis < 3; ++axis) out[3 * j + axis] = centred[id * 3 + axis] - centred[self * 3 + axis];
-      }
+  ids_ = neighbourhoods.selves;
+  offsets_.resize(samples * k * 3);
+  // Nearest first, so that the first quarter of the rows is the next scale down's neighbourhood.
+  for (std::size_t s = 0; s < samples; ++s) {
+    const std::size_t self = ids_[s];
+    const std::size_t* ids = neighbourhoods.ids_of(s);
+    double* out = &offsets_[s * k * 3];
+    for (std::size_t j = 0; j < k; ++j) {
+      for (int axis = 0; axis < 3; ++axis) out[3 * j + axis] = centred[ids[j] * 3 + axis] - centred[self * 3 + axis];
     }
   }
 }

@@ -21,20 +21,17 @@
 
 namespace pnf::detail {
 
-class SpatialIndex;
+struct SampleNeighbourhoods;
 
 class SurfaceJudge {
  public:
   SurfaceJudge() = default;
-  // Samples `samples` points spread evenly along `curve` (the points' morton_order; sample s is
-  // point curve[floor(s N / samples)]), each with its `neighbours` nearest points (the sample
-  // included, nearest first, ties in curve order), so that the judge does not depend on the
-  // input's row order; `width` is the weight's width on the residual (model units). The index
-  // must keep the cloud's order (SpatialIndex::Layout::any_order), as the normals judged later
-  // come in it. A distributed run builds it on rank 0 over the whole cloud
-  // (lib/src/mpi/choose_filter_params_mpi.cpp).
-  SurfaceJudge(const SpatialIndex& index, const std::vector<std::uint32_t>& curve, std::size_t samples, int neighbours,
-               double width);
+  // Judges at the samples of `neighbourhoods` (sample_neighbourhoods.hpp: spread along the Morton
+  // curve, neighbours nearest first, so that the judge does not depend on the input's row order)
+  // over `centred` (the cloud's positions in its own order, as the normals judged later come in
+  // it); `width` is the weight's width on the residual (model units). A distributed run builds it
+  // on rank 0 over the whole cloud (lib/src/mpi/choose_filter_params_mpi.cpp).
+  SurfaceJudge(const std::vector<double>& centred, const SampleNeighbourhoods& neighbourhoods, double width);
 
   bool empty() const { return ids_.empty(); }
   std::size_t size() const { return ids_.size(); }
@@ -80,7 +77,7 @@ class SurfaceJudge {
 // The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside
 // the fits' constants it derives from).
 struct JudgeGeometry {
-  std::size_t samples = 0;  // over the whole cloud
+  std::size_t samples = 0;  // over the whole cloud (samples_at_scale)
   int neighbours = 0;       // the sample included
   double width = 0;         // model units
   // Positions as clean as the fits' floor (the width set by the spacing, not the noise): the
@@ -91,9 +88,10 @@ struct JudgeGeometry {
 };
 JudgeGeometry judge_geometry(const DataEstimate& estimate);
 
-// pnf::estimate_data, also making `judge` (when not null) with judge_geometry's settings. `poll`
-// is asked, on the calling thread, about every 0.1 s while the samples are fitted, with a share
-// of the fits done; when it returns false the fits stop and pnf::Error(cancelled) is thrown.
+// pnf::estimate_data, also making `judge` (when not null) with judge_geometry's settings, from the
+// neighbourhoods of the estimate's own samples where a scale coincides. `poll` is asked, on the
+// calling thread, before and about every 0.1 s during each scale's neighbour search, with a share
+// of the work done; when it returns false the search stops and pnf::Error(cancelled) is thrown.
 DataEstimate estimate_data(const CloudView& cloud, SurfaceJudge* judge,
                            const std::function<bool(double fraction)>& poll = {});
 
