@@ -1,6 +1,7 @@
 // The passes --auto's judge may run (lib/src/auto/judged_passes.hpp, judged_pass_budget): the
 // budget of 8 (or the setting's own passes where more), except on the line for independent
-// normal errors, which runs its own one or two passes at most.
+// normal errors, which runs its own one or two passes at most; and when the passes end
+// (judged_passes_end).
 #include <gtest/gtest.h>
 
 #include <utility>
@@ -74,6 +75,46 @@ TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
   ASSERT_TRUE(detail::independent_normal_errors(plane));
   EXPECT_FALSE(detail::on_independent_errors_line(plane, plane.params));
   EXPECT_EQ(detail::judged_pass_budget(plane.params, plane), detail::kJudgedPassBudget);
+}
+
+// judged_passes_end, on judged RMS sequences from the real meshes (docs/auto.md, 100k points).
+TEST(JudgedPassesEnd, TwoPassesPastTheBest) {
+  // The casting, clean, PCA-16: best at pass 3 (3.23), two above it.
+  EXPECT_FALSE(detail::judged_passes_end({4.49, 3.81, 3.37, 3.23, 3.31}, 3, 3.23, 8));
+  EXPECT_TRUE(detail::judged_passes_end({4.49, 3.81, 3.37, 3.23, 3.31, 3.42}, 3, 3.23, 8));
+}
+
+TEST(JudgedPassesEnd, WhenShrinkingGainsCannotReachTheBar) {
+  // The camel at 0.6% noise with tilted normals: 20.3 in, to beat 7.31. After pass 2 the larger
+  // of the last two gains (4.1) could still carry six passes there; after pass 3 (gains 0.6 and
+  // 0.04) five more reach 12.56 at best.
+  EXPECT_FALSE(detail::judged_passes_end({20.3, 16.2}, 1, 7.31, 8)) << "one gain tells no trend";
+  EXPECT_FALSE(detail::judged_passes_end({20.3, 16.2, 15.6}, 2, 7.31, 8));
+  EXPECT_TRUE(detail::judged_passes_end({20.3, 16.2, 15.6, 15.56}, 3, 7.31, 8));
+  // The same scores with a bar within their reach: go on.
+  EXPECT_FALSE(detail::judged_passes_end({20.3, 16.2, 15.6, 15.56}, 3, 13.0, 8));
+}
+
+TEST(JudgedPassesEnd, NotOnGainsThatWaver) {
+  // The held-out Armadillo at 0.6% noise with PCA-16 normals: 35.5 in, to beat 18.4; gains 2.0,
+  // 2.0, 2.6, 2.7, 2.1, 1.9, then 2.1 twice, and pass 8 (18.0) passed the bar. Reaching on the last
+  // gain alone (1.9) gave up after pass 6 at 22.2 - 2 x 1.9 = 18.4; the larger of the last two
+  // (2.1) goes on.
+  EXPECT_FALSE(detail::judged_passes_end({35.5, 33.5, 31.5, 28.9, 26.2, 24.1, 22.2}, 6, 18.4, 8));
+}
+
+TEST(JudgedPassesEnd, NotWhileTheGainsGrow) {
+  // The camel at 0.6% noise with PCA-16 normals: 40.1 in, to beat 17.5; the gains grow over the
+  // first passes (3.8, 5.7, 6.8) before they shrink, and pass 5 passed the bar.
+  EXPECT_FALSE(detail::judged_passes_end({40.1, 36.3, 30.6, 23.8}, 3, 17.5, 14));
+  // A small first gain, a larger second: a linear reach from the first would have given up.
+  EXPECT_FALSE(detail::judged_passes_end({40.1, 39.9, 38.0}, 2, 17.5, 8));
+}
+
+TEST(JudgedPassesEnd, NotWhileThePassesStillBeatTheBest) {
+  // The teddy at 0.25% noise with PCA-16 normals, gains shrinking, each pass the best so far:
+  // the score to beat is the last pass's own.
+  EXPECT_FALSE(detail::judged_passes_end({28.4, 23.3, 18.4, 14.7, 12.5, 10.9, 10.0}, 6, 10.0, 8));
 }
 
 }  // namespace

@@ -46,17 +46,26 @@ double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
   return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
 }
 
+bool detail::judged_passes_end(const std::vector<double>& rms_by_pass, int best_pass_here, double to_beat, int budget) {
+  const int pass = int(rms_by_pass.size()) - 1;
+  if (pass - best_pass_here >= kJudgedPassesPastBest) return true;
+  if (pass < 2) return false;
+  const double gain = rms_by_pass[std::size_t(pass) - 1] - rms_by_pass[std::size_t(pass)];
+  const double gain_before = rms_by_pass[std::size_t(pass) - 2] - rms_by_pass[std::size_t(pass) - 1];
+  return gain > 0 && gain < gain_before &&
+         rms_by_pass[std::size_t(pass)] - std::max(gain, gain_before) * (budget - pass) >= to_beat;
+}
+
 int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& choice) {
   if (on_independent_errors_line(choice, params)) return params.iterations;
   return std::max(params.iterations, kJudgedPassBudget);
 }
 
-std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples,
-                                   int fit_points) {
+std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points) {
   return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
          std::to_string(fit_points) + " points, its own error " + number(own_error_deg) +
-         " deg), RMS deg from the input (" +
-         number(input_rms_deg) + ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
+         " deg), RMS deg from the input (" + number(input_rms_deg) +
+         ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
 }
 
 std::string detail::judged_candidate(std::size_t candidate, const FilterParams& params,
@@ -121,7 +130,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     params.iterations = detail::judged_pass_budget(params, run.choice);
     std::vector<double> rms_by_pass = {input_rms};
     int best_pass_here = 0;
-    // Scores each pass; the passes end kJudgedPassesPastBest past this setting's best.
+    // Scores each pass and keeps the best under the bar; judged_passes_end says when to stop.
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
       rms_by_pass.push_back(judge.rms_deg(normals.data()));
       if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
@@ -131,7 +140,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
         best_candidate = c;
         run.passes_kept = pass;
       }
-      return int(rms_by_pass.size()) - 1 - best_pass_here < detail::kJudgedPassesPastBest;
+      return !detail::judged_passes_end(rms_by_pass, best_pass_here, best_rms, params.iterations);
     };
     const FilterSummary summary = filter.run_observed(cloud, normals_out, params, after_pass, progress);
     if (c == best_candidate) run.summary = summary;

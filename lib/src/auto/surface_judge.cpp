@@ -26,7 +26,32 @@ struct FrameError {
   double slope_u = 0, slope_v = 0;  // the fitted surface's slope along the frame's tangents
   double variance = 0;              // of the slope, from the weighted residuals (radians^2)
 };
-FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, double width) {
+using Row = Eigen::Matrix<double, 6, 1>;
+
+// The quadric's coefficients by weighted least squares, with m = A^T W A.
+Row weighted_fit(const std::vector<Row>& rows, const std::vector<double>& heights, const std::vector<double>& weights,
+                 Eigen::Matrix<double, 6, 6>& m) {
+  m = Eigen::Matrix<double, 6, 6>::Identity() * 1e-12;
+  Row rhs = Row::Zero();
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    m.noalias() += weights[k] * rows[k] * rows[k].transpose();
+    rhs.noalias() += weights[k] * heights[k] * rows[k];
+  }
+  return m.ldlt().solve(rhs);
+}
+
+// Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`.
+void reweight(const std::vector<Row>& rows, const std::vector<double>& heights, const Row& c, double w_scale,
+              std::vector<double>& weights) {
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const double r = (heights[k] - rows[k].dot(c)) / w_scale;
+    weights[k] = std::exp(-0.5 * r * r);
+  }
+}
+
+// Without `with_variance` only the angle and slopes are computed: the last reweighting and the
+// variance serve only the judge's own error, and a pass's score needs neither.
+FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, double width, bool with_variance) {
   const double length = n.norm();
   if (!(length > 0) || !std::isfinite(length)) return {};
   n /= length;
@@ -41,7 +66,7 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
   }
   if (!(reach > 0)) return {};
   const double w_scale = width / reach;
-  std::vector<Eigen::Matrix<double, 6, 1>> rows(static_cast<std::size_t>(count));
+  std::vector<Row> rows(static_cast<std::size_t>(count));
   std::vector<double> heights(static_cast<std::size_t>(count)), weights(static_cast<std::size_t>(count));
   for (int k = 0; k < count; ++k) {
     const Eigen::Vector3d o = Eigen::Vector3d(offsets[3 * k], offsets[3 * k + 1], offsets[3 * k + 2]) / reach;
@@ -51,24 +76,17 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     const double r = heights[std::size_t(k)] / w_scale;
     weights[std::size_t(k)] = std::exp(-0.5 * r * r);
   }
-  Eigen::Matrix<double, 6, 1> c = Eigen::Matrix<double, 6, 1>::Zero();
+  Row c = Row::Zero();
   Eigen::Matrix<double, 6, 6> m;
   for (int step = 0; step < kReweightSteps; ++step) {
-    m = Eigen::Matrix<double, 6, 6>::Identity() * 1e-12;
-    Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-    for (int k = 0; k < count; ++k) {
-      const auto& row = rows[std::size_t(k)];
-      m.noalias() += weights[std::size_t(k)] * row * row.transpose();
-      rhs.noalias() += weights[std::size_t(k)] * heights[std::size_t(k)] * row;
-    }
-    c = m.ldlt().solve(rhs);
-    for (int k = 0; k < count; ++k) {
-      const double r = (heights[std::size_t(k)] - rows[std::size_t(k)].dot(c)) / w_scale;
-      weights[std::size_t(k)] = std::exp(-0.5 * r * r);
-    }
+    if (step > 0) reweight(rows, heights, c, w_scale, weights);
+    c = weighted_fit(rows, heights, weights, m);
   }
+  // The weights of the fit found: for the variance only.
+  if (with_variance) reweight(rows, heights, c, w_scale, weights);
   const double slope = std::hypot(c(1), c(2));
   if (!std::isfinite(slope)) return {};
+  if (!with_variance) return {std::atan(slope), c(1), c(2), 0.0};
   // The slope's variance: the weighted residuals' variance times (A^T W A)^-1's slope terms.
   double rss = 0, weight = 0;
   for (int k = 0; k < count; ++k) {
@@ -118,11 +136,11 @@ SurfaceJudge::Sums SurfaceJudge::sums(const double* normals_xyz) const {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
     const double* offsets = &offsets_[std::size_t(s) * k * 3];
-    const FrameError e = error_in_frame(offsets, scored_, n, width_);
+    const FrameError e = error_in_frame(offsets, scored_, n, width_, true);
     squared[std::size_t(s)] = e.angle * e.angle;
     variance[std::size_t(s)] = e.variance;
     if (inner >= kMinNeighbours) {
-      const FrameError near = error_in_frame(offsets, inner, n, width_);
+      const FrameError near = error_in_frame(offsets, inner, n, width_, true);
       const double a = std::atan(std::hypot(e.slope_u - near.slope_u, e.slope_v - near.slope_v));
       apart[std::size_t(s)] = a * a;
       inner_variance[std::size_t(s)] = near.variance;
@@ -148,7 +166,7 @@ double SurfaceJudge::sum_squared(const double* normals_xyz) const {
   for (long long s = 0; s < static_cast<long long>(ids_.size()); ++s) {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
-    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], scored_, n, width_).angle;
+    const double a = error_in_frame(&offsets_[std::size_t(s) * k * 3], scored_, n, width_, false).angle;
     squared[std::size_t(s)] = a * a;
   }
   return std::accumulate(squared.begin(), squared.end(), 0.0);

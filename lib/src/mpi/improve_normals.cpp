@@ -72,7 +72,9 @@ class JudgedPasses {
       best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
     }
   }
-  bool enough() const { return int(judging_.rms_by_pass.size()) - 1 - best_here_ >= judging_.passes_past_best; }
+  bool enough() const {
+    return pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, best_rms_, judging_.budget);
+  }
   const std::vector<double>& best_normals() const { return best_; }
 
  private:
@@ -84,7 +86,8 @@ class JudgedPasses {
     counts_.assign(std::size_t(ranks), 0);
     detail::check_mpi(MPI_Gather(&mine, 1, MPI_INT, counts_.data(), 1, MPI_INT, 0, comm_), "MPI_Gather");
     displacements_.assign(std::size_t(ranks), 0);
-    for (int r = 1; r < ranks; ++r) displacements_[std::size_t(r)] = displacements_[std::size_t(r) - 1] + counts_[std::size_t(r) - 1];
+    for (int r = 1; r < ranks; ++r)
+      displacements_[std::size_t(r)] = displacements_[std::size_t(r) - 1] + counts_[std::size_t(r) - 1];
     all_gids_.resize(rank_ == 0 ? total_ : 0);
     std::vector<unsigned long long> my_gids(gids.begin(), gids.begin() + std::ptrdiff_t(owned_));
     detail::check_mpi(MPI_Gatherv(my_gids.data(), mine, MPI_UNSIGNED_LONG_LONG, all_gids_.data(), counts_.data(),
@@ -119,7 +122,7 @@ class JudgedPasses {
   detail::PassJudging& judging_;
   std::size_t owned_, total_;
   int rank_ = 0;
-  std::vector<int> counts_, displacements_;  // rank 0: each rank's points, and where they start
+  std::vector<int> counts_, displacements_;   // rank 0: each rank's points, and where they start
   std::vector<unsigned long long> all_gids_;  // rank 0: the global id of each gathered row
   std::vector<double> best_;
   double best_rms_ = 0;  // to beat: the input's bar, then the best kept pass's

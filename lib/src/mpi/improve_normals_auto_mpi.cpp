@@ -14,9 +14,9 @@
 
 namespace pnf::mpi {
 
-DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& local,
-                                        MutableVec3ArrayView normals_out, const FilterOptions& options,
-                                        const ProgressCallback& progress, double stop_change_deg) {
+DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& local, MutableVec3ArrayView normals_out,
+                                        const FilterOptions& options, const ProgressCallback& progress,
+                                        double stop_change_deg) {
   detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
@@ -40,9 +40,9 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
-    judging.passes_past_best = pnf::detail::kJudgedPassesPastBest;
-    const DistributedSummary summary = detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params,
-                                                               options, progress, &judging);
+    judging.budget = params.iterations;
+    const DistributedSummary summary =
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
     if (c == 0) {

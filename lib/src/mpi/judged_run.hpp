@@ -24,7 +24,7 @@ struct RootJudge {
 // What the judged run needs and what it tells: the same on every rank.
 struct PassJudging {
   const RootJudge* root = nullptr;  // rank 0's, where the passes are scored; null elsewhere
-  int passes_past_best = 2;         // passes end when this many in a row did not beat the best
+  int budget = 0;                   // the passes the setting may run (pnf::detail::judged_pass_budget)
   std::vector<double> rms_by_pass;  // the judge's RMS (degrees) of the input, then each pass
   int best_pass = 0;                // 0: the input
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
