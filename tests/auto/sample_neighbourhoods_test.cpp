@@ -15,19 +15,13 @@
 namespace pnf::test {
 namespace {
 
-std::vector<double> rows(const std::vector<Vec3>& points) {
-  std::vector<double> out;
-  for (const Vec3& p : points) out.insert(out.end(), p.begin(), p.end());
-  return out;
-}
-
 double squared_distance(const Vec3& a, const Vec3& b) {
   return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
 
 TEST(SampleNeighbourhoods, AreEachSamplesNearestPointsNearestFirst) {
   const PointCloud s = sphere(3000, 1.0, 11);
-  const detail::SpatialIndex index(rows(s.positions), detail::SpatialIndex::Layout::any_order);
+  const detail::SpatialIndex index(xyz_rows(s.positions), detail::SpatialIndex::Layout::any_order);
   const std::vector<std::uint32_t> curve = detail::morton_order(Vec3ArrayView(s.positions));
   const int k = 40;
   const detail::SampleNeighbourhoods n =
@@ -60,7 +54,7 @@ TEST(SampleNeighbourhoods, NeverMoreSamplesThanPointsOrTheLookUpBudget) {
 // the calling thread asks within it whatever the thread count: 4M look-ups, 64 MB); false stops it.
 TEST(SampleNeighbourhoods, StopWhenThePollSaysSo) {
   const PointCloud s = sphere(200000, 1.0, 12);
-  const detail::SpatialIndex index(rows(s.positions), detail::SpatialIndex::Layout::any_order);
+  const detail::SpatialIndex index(xyz_rows(s.positions), detail::SpatialIndex::Layout::any_order);
   const std::vector<std::uint32_t> curve = detail::morton_order(Vec3ArrayView(s.positions));
   const std::vector<std::uint32_t> rank = detail::ranks_of(curve);
   for (int answer_false_at : {1, 2}) {

@@ -18,16 +18,9 @@
 namespace pnf::test {
 namespace {
 
-// Rows x y z of `normals`, the judge's input.
-std::vector<double> rows(const std::vector<Vec3>& normals) {
-  std::vector<double> out;
-  for (const Vec3& n : normals) out.insert(out.end(), n.begin(), n.end());
-  return out;
-}
-
 // The judge keeps copies of the neighbourhoods, so the index may go.
 detail::SurfaceJudge judge_of(const std::vector<Vec3>& positions, int neighbours, double width) {
-  std::vector<double> xyz = rows(positions);
+  std::vector<double> xyz = xyz_rows(positions);
   const detail::SpatialIndex index(std::move(xyz), detail::SpatialIndex::Layout::any_order);
   const std::vector<std::uint32_t> curve = detail::morton_order(Vec3ArrayView(positions));
   const detail::SampleNeighbourhoods n =
@@ -60,10 +53,10 @@ TEST(SurfaceJudge, ReadsATiltOnASmoothSurfaceAsItsAngle) {
   const detail::SurfaceJudge judge = judge_of(s.positions, 65, 0.15 * spacing);
   ASSERT_FALSE(judge.empty());
   const std::vector<Vec3>& truth = s.normals;
-  EXPECT_LT(judge.rms_deg(rows(truth).data()), 0.3);
+  EXPECT_LT(judge.rms_deg(xyz_rows(truth).data()), 0.3);
   // A tilt of 5 degrees reads as 5, within the fits' own error.
-  EXPECT_NEAR(judge.rms_deg(rows(tilted(truth, 5, 1)).data()), 5.0, 0.5);
-  EXPECT_NEAR(judge.rms_deg(rows(tilted(truth, 2, 2)).data()), 2.0, 0.4);
+  EXPECT_NEAR(judge.rms_deg(xyz_rows(tilted(truth, 5, 1)).data()), 5.0, 0.5);
+  EXPECT_NEAR(judge.rms_deg(xyz_rows(tilted(truth, 2, 2)).data()), 2.0, 0.4);
 }
 
 TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
@@ -72,8 +65,8 @@ TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
   // PCA normals blur the crease; the true ones are each face's.
   const std::vector<Vec3> pca = pca16_normals(c.cloud.positions, c.truth);
   ASSERT_GT(rms_line_angle(pca, c.truth), 2.0);  // the blur is there to be seen
-  const double truth_score = judge.rms_deg(rows(c.truth).data());
-  const double pca_score = judge.rms_deg(rows(pca).data());
+  const double truth_score = judge.rms_deg(xyz_rows(c.truth).data());
+  const double pca_score = judge.rms_deg(xyz_rows(pca).data());
   EXPECT_LT(truth_score, 0.5);
   EXPECT_GT(pca_score, 0.5 * rms_line_angle(pca, c.truth));
 }
@@ -91,7 +84,7 @@ TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
         {-a * k * std::cos(k * p[0]) * std::sin(k * p[1]), -a * k * std::sin(k * p[0]) * std::cos(k * p[1]), 1});
   }
   detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
-  const std::vector<double> truth = rows(ripples.normals);
+  const std::vector<double> truth = xyz_rows(ripples.normals);
   const double whole = judge.rms_deg(truth.data());
   judge.choose_scale(truth.data());
   EXPECT_EQ(judge.scored(), 64);
@@ -106,7 +99,7 @@ TEST(SurfaceJudge, ScoresNoisyPositionsWithTheWholeNeighbourhood) {
   std::normal_distribution<double> noise(0, 0.003);
   for (Vec3& p : plane.positions) p[2] = noise(rng);
   detail::SurfaceJudge judge = judge_of(plane.positions, 257, std::hypot(0.15 * 0.01, 2 * 0.003));
-  const std::vector<double> truth = rows(plane.normals);
+  const std::vector<double> truth = xyz_rows(plane.normals);
   judge.choose_scale(truth.data());
   EXPECT_EQ(judge.scored(), 257);
 }
