@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+#include <vector>
+
 #include "pnf/error.hpp"
 #include "test_clouds.hpp"
 
@@ -71,6 +75,33 @@ TEST(MeanRadius, InputOrderDoesNotMatter) {
   for (int i = 0; i < 150000; ++i) p.push_back({u(rng), u(rng), 0.01 * u(rng)});  // > 100k: sampled
   std::vector<pnf::Vec3> reversed(p.rbegin(), p.rend());
   EXPECT_EQ(pnf::estimate_mean_radius(p), pnf::estimate_mean_radius(reversed));
+}
+
+// ... nor does the mean of the radius property: the radii are summed exactly (exact_sum.hpp).
+TEST(MeanRadius, PropertyMeanHasTheSameBitsInAnyRowOrder) {
+  pnf::PointCloud cloud = pnf::test::jittered_grid(100, 0.5, 0.1, 5);
+  std::mt19937 rng(10);
+  std::lognormal_distribution<double> radius(-1, 0.7);
+  for (std::size_t i = 0; i < cloud.size(); ++i) cloud.radii.push_back(radius(rng));
+  const double mean = pnf::mean_radius(cloud).value;
+  bool rounding_moves = false;  // a plain sum in another order would round differently
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::vector<std::size_t> order(cloud.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+    pnf::PointCloud shuffled;
+    double plain = 0;
+    for (std::size_t i : order) {
+      shuffled.positions.push_back(cloud.positions[i]);
+      shuffled.normals.push_back(cloud.normals[i]);
+      shuffled.radii.push_back(cloud.radii[i]);
+      plain += cloud.radii[i];
+    }
+    EXPECT_EQ(pnf::mean_radius(shuffled).value, mean) << "seed " << seed;
+    rounding_moves = rounding_moves || plain / double(cloud.size()) != mean;
+    EXPECT_NEAR(plain / double(cloud.size()), mean, 1e-12 * mean);
+  }
+  EXPECT_TRUE(rounding_moves) << "the test's orders do not exercise the rounding";
 }
 
 }  // namespace

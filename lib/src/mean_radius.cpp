@@ -4,6 +4,7 @@
 #include <string>
 #include <utility>
 
+#include "exact_sum.hpp"
 #include "mean_radius_internal.hpp"
 #include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
@@ -35,9 +36,11 @@ MeanRadius resolve_mean_radius(double given, const ScalarArrayView& radii, std::
                                const std::function<double()>& estimate) {
   if (given > 0) return {given, RadiusSource::given};
   if (!radii.empty()) {
-    double sum = 0;
-    for (std::size_t i = 0; i < radii.count; ++i) sum += radii.get(i);
-    return {sum / double(radii.count), RadiusSource::property};
+    // Summed exactly, so that the mean has the same bits in any row order (and across ranks:
+    // mpi/mean_radius_mpi.cpp).
+    ExactSum sum;
+    for (std::size_t i = 0; i < radii.count; ++i) sum.add(radii.get(i));
+    return {sum.value() / double(radii.count), RadiusSource::property};
   }
   const double value = estimate();
   if (!(value > 0)) throw_cannot_estimate_mean_radius(points);

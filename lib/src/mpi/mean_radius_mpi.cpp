@@ -6,6 +6,7 @@
 #include <string>
 
 #include "agreement.hpp"
+#include "exact_sum.hpp"
 #include "halo.hpp"
 #include "mean_radius_internal.hpp"
 #include "spatial/spatial_index.hpp"
@@ -46,7 +47,8 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
       width = std::numeric_limits<double>::infinity();
     } else {
       const SpatialIndex search(own, SpatialIndex::Layout::any_order);
-      for (std::uint32_t i : mine) width = std::max(width, std::sqrt(search.nearest_squared_distances(i, k + 1).back()));
+      for (std::uint32_t i : mine)
+        width = std::max(width, std::sqrt(search.nearest_squared_distances(i, k + 1).back()));
     }
   }
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &width, 1, MPI_DOUBLE, MPI_MAX, comm), "MPI_Allreduce");
@@ -82,20 +84,17 @@ double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& fram
   return median;
 }
 
-// The mean of every rank's values added in rank order, one after the other, as one process adds
-// them: a running sum passed from rank to rank (P messages; the additions are N in all, as in one
-// process), so that the mean is bit-identical.
-double ordered_mean(MPI_Comm comm, const ScalarArrayView& values) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
-  double running[2] = {0, 0};  // sum, count
-  if (rank > 0) check_mpi(MPI_Recv(running, 2, MPI_DOUBLE, rank - 1, 0, comm, MPI_STATUS_IGNORE), "MPI_Recv");
-  for (std::size_t i = 0; i < values.count; ++i) running[0] += values.get(i);
-  running[1] += double(values.count);
-  if (rank + 1 < ranks) check_mpi(MPI_Send(running, 2, MPI_DOUBLE, rank + 1, 0, comm), "MPI_Send");
-  check_mpi(MPI_Bcast(running, 2, MPI_DOUBLE, ranks - 1, comm), "MPI_Bcast");
-  return running[0] / running[1];
+// The mean of every rank's values, summed exactly (pnf::detail::ExactSum): the digits of the
+// ranks' sums add as integers, so the mean is one process's bit for bit, in any row order.
+double exact_mean(MPI_Comm comm, const ScalarArrayView& values) {
+  pnf::detail::ExactSum sum;
+  for (std::size_t i = 0; i < values.count; ++i) sum.add(values.get(i));
+  auto& digits = sum.carried_digits();
+  check_mpi(MPI_Allreduce(MPI_IN_PLACE, digits.data(), int(digits.size()), MPI_INT64_T, MPI_SUM, comm),
+            "MPI_Allreduce");
+  double count = double(values.count);
+  check_mpi(MPI_Allreduce(MPI_IN_PLACE, &count, 1, MPI_DOUBLE, MPI_SUM, comm), "MPI_Allreduce");
+  return sum.value() / count;
 }
 
 }  // namespace
@@ -120,7 +119,7 @@ double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoi
   }
   if (totals[1] > 0) {
     source = RadiusSource::property;
-    return ordered_mean(comm, local.radii);
+    return exact_mean(comm, local.radii);
   }
   source = RadiusSource::estimate;
   const double radius = estimate(comm, owned, frame);
