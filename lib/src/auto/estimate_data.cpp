@@ -111,6 +111,7 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   // the upper fits may fall on the noise scale, the judge on either. The calling thread (OpenMP's
   // master) asks `poll` during the searches; the k-th scale searched reports within
   // [1 - 2^-k, 1 - 2^-(k+1)) of the work (how many scales run depends on what the first ones find).
+  // The searches are kept until the estimate returns: 16 bytes a look-up, up to 16 MB a scale.
   using Scale = std::pair<std::size_t, int>;  // samples, and neighbours with the sample
   std::map<Scale, detail::SampleNeighbourhoods> searched;
   std::map<Scale, std::vector<SampleFit>> fitted;
