@@ -69,6 +69,8 @@ def test_choose_params_reports_what_it_measured():
     assert set(choice.kwargs) == {"sigma_f", "sigma_g", "iterations", "units", "mean_radius", "stop_change_deg"}
     without = pnf.choose_params(points)
     assert without.estimate.normal_noise_deg == -1
+    assert without.estimate.normal_noise_neighbours_deg == -1
+    assert choice.estimate.normal_noise_neighbours_deg >= 0
 
 
 def test_devices():

@@ -72,8 +72,8 @@ ProgressCallback progress_bar(bool quiet) {
     const int filled = int(kWidth * text.done);
     std::fprintf(stderr, "\r  %-14s [%s%s] %.2f s ", text.label.c_str(), std::string(filled, '#').c_str(),
                  std::string(kWidth - filled, ' ').c_str(), p.seconds);
-    const bool last = p.stage == ProgressStage::pass ? p.pass == p.passes
-                                                     : p.stage == ProgressStage::estimate && text.done >= 1;
+    const bool last =
+        p.stage == ProgressStage::pass ? p.pass == p.passes : p.stage == ProgressStage::estimate && text.done >= 1;
     if (last || interrupted) {
       std::fprintf(stderr, "\r%*s\r", kWidth + 40, "");
     }
@@ -165,9 +165,10 @@ void print_auto(const AutoChoice& choice, double seconds) {
                e.position_noise, e.position_noise_area_spacings());
   if (e.normal_noise_deg >= 0) {
     std::fprintf(stderr,
-                 "  normal noise     %.3g deg RMS, errors of nearby normals correlated %.2f, coupled to the "
-                 "positions %.2f; crease length in the normals %.2f per size\n",
-                 e.normal_noise_deg, e.normal_error_correlation, e.normal_position_coupling, e.normal_crease_length);
+                 "  normal noise     %.3g deg RMS (%.3g from the neighbours' normals), errors of nearby normals "
+                 "correlated %.2f, coupled to the positions %.2f; crease length in the normals %.2f per size\n",
+                 e.normal_noise_deg, e.normal_noise_neighbours_deg, e.normal_error_correlation,
+                 e.normal_position_coupling, e.normal_crease_length);
   }
   std::fprintf(stderr,
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "

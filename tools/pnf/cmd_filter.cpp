@@ -59,7 +59,7 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   std::fprintf(stderr, " s\n");
   if (passes_kept >= 0) {
     std::fprintf(stderr, "  judged       %d of %d passes kept (%s); mean change per pass:", passes_kept, s.passes_run,
-                 passes_kept == 0 ? "the input normals returned" : "the judge's choice");
+                 passes_kept == 0 ? "the input normals returned" : "judged the best, above");
     for (double d : s.mean_change_deg) std::fprintf(stderr, " %.3g", d);
     std::fprintf(stderr, " deg\n");
   } else if (params.stop_change_deg > 0) {

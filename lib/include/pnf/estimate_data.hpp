@@ -35,6 +35,15 @@ struct DataEstimate {
   // lines (min(t, 180 - t)), from the median angle assuming a Rayleigh distribution; robust to
   // the minority of points near sharp edges. Negative when the cloud has no normals.
   double normal_noise_deg = -1;
+  // RMS angle in degrees of the input normals' errors as their nearest neighbours' normals see
+  // them: at each sample the normals of its 16 nearest points fitted as a linear function of the
+  // position along the surface, the residuals' variance less what the position noise moves the
+  // true normals by; the median, for Gaussian errors. Independent of the positions' fits, so it
+  // is the errors' own size where they are independent from point to point (a scanner's, a
+  // mesh's); errors shared by neighbours (PCA's) read low, and thick position noise on a curved
+  // surface makes it err low too. What --auto's Stein risk estimate takes as the input's noise
+  // (docs/auto.md). -1 without normals.
+  double normal_noise_neighbours_deg = -1;
   // The neighbourhood the fits used: number of nearest points, and the radius (model units)
   // of the fitted cylinder. The smallest of 64, 256, 1024, 4096 neighbours whose cylinder is
   // wide against the noise measured in it (kMaxNoiseToFitRadius in the source).

@@ -8,4 +8,6 @@ list(APPEND PNF_AUTO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/auto/choose_filter_params.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/crease_evidence.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/surface_judge.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/neighbour_normal_noise.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/stein_risk.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/improve_normals_auto.cpp)

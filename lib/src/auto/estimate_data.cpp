@@ -12,6 +12,7 @@
 #include "cloud_checks.hpp"
 #include "crease_evidence.hpp"
 #include "mean_radius_internal.hpp"
+#include "neighbour_normal_noise.hpp"
 #include "pnf/bounding_box.hpp"
 #include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
@@ -226,6 +227,10 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
     *judge = detail::SurfaceJudge(centred, neighbourhoods_of(g.samples, neighbours), g.width);
   }
   if (cloud.has_normals()) {
+    // The smallest scale's neighbourhoods (searched first, always), nearest first.
+    const int nearest = int(std::min<std::size_t>(std::size_t(kScales[0]), count - 1)) + 1;
+    estimate.normal_noise_neighbours_deg = detail::neighbour_normal_noise_deg(
+        centred, cloud, neighbourhoods_of(detail::samples_at_scale(count, nearest), nearest), estimate.position_noise);
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
     const double turned_deg =
         std::max(kNormalCreasePerTypical * medians(fits, &SampleFit::local_angle_deg), kNormalCreaseFloorDeg);

@@ -9,6 +9,7 @@
 #include "judged_passes.hpp"
 #include "pnf/error.hpp"
 #include "pnf/improve_normals_auto.hpp"
+#include "stein_risk.hpp"
 #include "surface_judge.hpp"
 
 namespace pnf {
@@ -18,6 +19,69 @@ std::string number(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", value);
   return text;
+}
+
+// improve_normals_auto where Stein's estimate decides (detail::stein_decides): for each setting,
+// its passes from the probed input first (every pass of its budget, kept at the estimate's
+// samples), then from the input, each pass estimated as it ends; the passes end two past the
+// setting's lowest estimate, and the lowest of all settings is kept if the surface judge does not
+// score it above the input (a veto against a noise estimate gone wrong). Only the passes that
+// become the lowest so far are judged. `input`: the input normals, unit.
+AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
+                  const ProgressCallback& progress, const detail::SurfaceJudge& judge, const std::vector<double>& input,
+                  AutoRun& run) {
+  const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
+  const detail::SteinRisk risk(detail::stein_samples(cloud.positions), input,
+                               run.choice.estimate.normal_noise_neighbours_deg);
+  const std::vector<double> probed_input = risk.probed(input);
+  const CloudView probed(cloud.positions, Vec3ArrayView(probed_input.data(), cloud.size()), cloud.radii);
+  std::vector<double> best = input;
+  double best_risk = risk.input_risk_deg(), best_judged = 0;
+  std::size_t best_candidate = 0;
+  std::string estimated = detail::stein_heading(risk.input_risk_deg());
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    FilterParams params = candidates[c];
+    params.iterations = detail::judged_pass_budget(params, run.choice);
+    std::vector<std::vector<double>> probed_by_pass;
+    filter.run_observed(
+        probed, normals_out, params,
+        [&](int, const std::vector<double>& normals) {
+          probed_by_pass.push_back(risk.at_samples(normals.data()));
+          return true;
+        },
+        progress);
+    std::vector<double> risk_by_pass = {risk.input_risk_deg()};
+    int best_pass_here = 0;
+    auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      risk_by_pass.push_back(risk.risk_deg(risk.at_samples(normals.data()), probed_by_pass[std::size_t(pass) - 1]));
+      if (risk_by_pass.back() < risk_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
+      if (risk_by_pass.back() < best_risk) {
+        best_risk = risk_by_pass.back();
+        best_judged = judge.rms_deg(normals.data());
+        best = normals;
+        best_candidate = c;
+        run.passes_kept = pass;
+      }
+      // The probed run's stop rule may have ended it a pass early.
+      return !detail::judged_passes_end(risk_by_pass, best_pass_here, detail::kNoBar, params.iterations) &&
+             std::size_t(pass) < probed_by_pass.size();
+    };
+    const FilterSummary summary = filter.run_observed(cloud, normals_out, params, after_pass, progress);
+    if (c == best_candidate) run.summary = summary;
+    estimated += detail::judged_candidate(c, params, risk_by_pass);
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), risk_by_pass.begin() + 1, risk_by_pass.end());
+  }
+  const double input_judged = judge.rms_deg(input.data());
+  if (run.passes_kept > 0 && best_judged > input_judged) {
+    run.passes_kept = 0;
+    best = input;
+  }
+  for (std::size_t i = 0; i < cloud.size(); ++i) normals_out.set(i, {best[3 * i], best[3 * i + 1], best[3 * i + 2]});
+  if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
+  run.choice.judged = detail::stein_judged(input_judged, best_judged) + estimated +
+                      detail::judged_outcome(best_candidate, run.passes_kept);
+  run.choice.params.iterations = run.passes_kept;
+  return run;
 }
 
 }  // namespace
@@ -52,7 +116,7 @@ bool detail::judged_passes_end(const std::vector<double>& rms_by_pass, int best_
   if (pass < 2) return false;
   const double gain = rms_by_pass[std::size_t(pass) - 1] - rms_by_pass[std::size_t(pass)];
   const double gain_before = rms_by_pass[std::size_t(pass) - 2] - rms_by_pass[std::size_t(pass) - 1];
-  return gain > 0 && gain < gain_before &&
+  return gain > 0 && gain < gain_before && std::isfinite(to_beat) &&
          rms_by_pass[std::size_t(pass)] - std::max(gain, gain_before) * (budget - pass) >= to_beat;
 }
 
@@ -81,6 +145,20 @@ std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) 
   if (passes_kept == 0) return ": the input normals kept";
   return std::string(": ") + (best_candidate == 0 ? "the rule's setting" : "the other setting") + ", " +
          std::to_string(passes_kept) + (passes_kept == 1 ? " pass kept" : " passes kept");
+}
+
+bool detail::stein_decides(const AutoChoice& choice) {
+  return independent_normal_errors(choice) && choice.estimate.normal_noise_neighbours_deg > 0;
+}
+
+std::string detail::stein_judged(double input_rms_deg, double kept_rms_deg) {
+  return "judged against the surface fitted to the positions: the input " + number(input_rms_deg) + " deg" +
+         (kept_rms_deg > 0 ? ", the pass of lowest estimate " + number(kept_rms_deg) + " deg" : std::string());
+}
+
+std::string detail::stein_heading(double noise_deg) {
+  return "; Stein's risk estimate (the input normals' noise " + number(noise_deg) +
+         " deg, from their neighbours' normals), RMS deg by pass:";
 }
 
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
@@ -116,10 +194,12 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   }
   const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
   // A copy: normals_out may be the cloud's own normals.
-  std::vector<double> best = detail::unit_rows(cloud.normals);
-  if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(best.data());
-  const double input_rms = judge.rms_deg(best.data());
-  const double own_error = judge.own_error_deg(best.data());
+  const std::vector<double> input = detail::unit_rows(cloud.normals);
+  if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(input.data());
+  if (detail::stein_decides(run.choice)) return stein_run(cloud, normals_out, filter, progress, judge, input, run);
+  std::vector<double> best = input;
+  const double input_rms = judge.rms_deg(input.data());
+  const double own_error = judge.own_error_deg(input.data());
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::size_t best_candidate = 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,10 @@ constexpr int kJudgedPassesPastBest = 2;
 // (the held-out Armadillo at 0.6% noise: 2.1, 1.9, 2.1, 2.1, and the last two passes passed the
 // bar). On the real meshes and the synthetic shapes this ended the passes early on 27 of 108 and
 // kept the same pass everywhere (docs/auto.md).
+// With `to_beat` kNoBar (where Stein's estimate decides which pass is kept) only the passes past
+// the best end them.
 bool judged_passes_end(const std::vector<double>& rms_by_pass, int best_pass_here, double to_beat, int budget);
+constexpr double kNoBar = -std::numeric_limits<double>::infinity();
 
 // The passes the judge may run of `params`: the budget above, or the setting's own passes where
 // more; but the line for independent errors (on_independent_errors_line) runs its own 1 or 2
@@ -83,10 +87,23 @@ std::vector<double> unit_rows(const Vec3ArrayView& normals);
 // 0 deg in, 8.6 out), only a gain larger than the judge's own error does.
 double rms_to_beat(double input_rms_deg, double own_error_deg);
 
+// Whether Stein's risk estimate (stein_risk.hpp) decides the passes kept: for input normals whose
+// errors are independent of the positions and of each other (independent_normal_errors), whose
+// noise their neighbours' normals measure (DataEstimate::normal_noise_neighbours_deg above 0).
+// There the surface judge's bar is blind: its fits err by more than the gains (the camel at 0.25%
+// of its diagonal, 10-degree tilts: its own error 5.0 deg, its true one about 12; the input kept,
+// where one pass takes 9.85 deg to 5.9), while Stein's estimate shares no error with the filter.
+bool stein_decides(const AutoChoice& choice);
+
 // AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
 // the outcome.
 std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points);
 std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
 std::string judged_outcome(std::size_t best_candidate, int passes_kept);
+// ... and where Stein's estimate decides (improve_normals_auto's stein_run): the judge's RMS of
+// the input and of the pass of lowest estimate (0: none), which must not score above the input;
+// then the estimate's noise, each setting's estimates by pass (judged_candidate) and the outcome.
+std::string stein_judged(double input_rms_deg, double kept_rms_deg);
+std::string stein_heading(double noise_deg);
 
 }  // namespace pnf::detail

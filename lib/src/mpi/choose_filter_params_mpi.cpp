@@ -36,9 +36,9 @@ std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine) 
   for (std::size_t r = 1; r < sizes.size(); ++r) offsets[r] = offsets[r - 1] + int(counts[r - 1]);
   for (std::size_t r = 0; r < sizes.size(); ++r) sizes[r] = int(counts[r]);
   std::vector<double> all(rank == 0 ? std::size_t(total) : 0);
-  detail::check_mpi(MPI_Gatherv(mine.data(), int(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(),
-                                MPI_DOUBLE, 0, comm),
-                    "MPI_Gatherv");
+  detail::check_mpi(
+      MPI_Gatherv(mine.data(), int(count), MPI_DOUBLE, all.data(), sizes.data(), offsets.data(), MPI_DOUBLE, 0, comm),
+      "MPI_Gatherv");
   return all;
 }
 
@@ -56,7 +56,7 @@ std::vector<double> rows_of(const Vec3ArrayView& view) {
 void broadcast(MPI_Comm comm, AutoChoice& c) {
   DataEstimate& e = c.estimate;
   FilterParams& p = c.params;
-  double f[25] = {double(e.points),
+  double f[26] = {double(e.points),
                   double(e.samples),
                   e.mean_radius,
                   double(int(e.radius_source)),
@@ -80,8 +80,9 @@ void broadcast(MPI_Comm comm, AutoChoice& c) {
                   p.stop_change_deg,
                   double(int(p.units)),
                   p.mean_radius,
-                  double(c.rule.size())};
-  detail::check_mpi(MPI_Bcast(f, 25, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+                  double(c.rule.size()),
+                  e.normal_noise_neighbours_deg};
+  detail::check_mpi(MPI_Bcast(f, 26, MPI_DOUBLE, 0, comm), "MPI_Bcast");
   e.points = std::size_t(f[0]);
   e.samples = std::size_t(f[1]);
   e.mean_radius = f[2];
@@ -107,6 +108,7 @@ void broadcast(MPI_Comm comm, AutoChoice& c) {
   p.units = Units(int(f[22]));
   p.mean_radius = f[23];
   c.rule.resize(std::size_t(f[24]));
+  e.normal_noise_neighbours_deg = f[25];
   detail::check_mpi(MPI_Bcast(c.rule.data(), int(c.rule.size()), MPI_CHAR, 0, comm), "MPI_Bcast");
 }
 
@@ -147,6 +149,10 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
       root->input_normals = pnf::detail::unit_rows(whole.normals);
       if (pnf::detail::judge_geometry(choice.estimate).quarter_allowed) {
         root->judge.choose_scale(root->input_normals.data());
+      }
+      if (pnf::detail::stein_decides(choice)) {
+        root->stein = pnf::detail::SteinRisk(pnf::detail::stein_samples(whole.positions), root->input_normals,
+                                             choice.estimate.normal_noise_neighbours_deg);
       }
     }
   });

@@ -42,6 +42,12 @@ class JudgedPasses {
       for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
     }
     gather_counts(gids);
+    if (judging_.probing) return;
+    if (judging_.stein) {  // rms_by_pass holds the input's estimate
+      judging_.best_pass = 0;
+      best_rms_ = judging_.to_beat;
+      return;
+    }
     double numbers[4] = {0, 0, 0, 0};
     if (judging_.root) {
       const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
@@ -62,6 +68,16 @@ class JudgedPasses {
   }
 
   void after_pass(const std::vector<double>& owned_normals) {
+    if (judging_.probing) {
+      const std::vector<double> whole = gathered_on_root(owned_normals);
+      if (judging_.root) judging_.samples_by_pass.push_back(judging_.root->stein.at_samples(whole.data()));
+      ++judging_.passes;
+      return;
+    }
+    if (judging_.stein) {
+      estimated_on_root(owned_normals);
+      return;
+    }
     const double rms = scored_on_root(owned_normals);
     judging_.rms_by_pass.push_back(rms);
     const int pass = int(judging_.rms_by_pass.size()) - 1;
@@ -73,6 +89,11 @@ class JudgedPasses {
     }
   }
   bool enough() const {
+    if (judging_.probing) return false;
+    if (judging_.stein) {
+      return pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, pnf::detail::kNoBar, judging_.budget) ||
+             int(judging_.rms_by_pass.size()) - 1 >= judging_.probed->passes;
+    }
     return pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, best_rms_, judging_.budget);
   }
   const std::vector<double>& best_normals() const { return best_; }
@@ -97,6 +118,37 @@ class JudgedPasses {
 
   // The judge's RMS of the whole cloud's normals after a pass, scored on rank 0, on every rank.
   double scored_on_root(const std::vector<double>& owned_normals) {
+    const std::vector<double> whole = gathered_on_root(owned_normals);
+    double rms = judging_.root ? judging_.root->judge.rms_deg(whole.data()) : 0.0;
+    detail::check_mpi(MPI_Bcast(&rms, 1, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    return rms;
+  }
+
+  // Where Stein's estimate decides: the pass's estimate (from rank 0, on every rank), and where it
+  // is the lowest so far, the judge's score of it and this rank's normals kept.
+  void estimated_on_root(const std::vector<double>& owned_normals) {
+    const std::vector<double> whole = gathered_on_root(owned_normals);
+    const int pass = int(judging_.rms_by_pass.size());
+    double numbers[2] = {0, 0};  // the estimate, the judge's score where it is the lowest so far
+    if (judging_.root) {
+      const pnf::detail::SteinRisk& stein = judging_.root->stein;
+      numbers[0] =
+          stein.risk_deg(stein.at_samples(whole.data()), judging_.probed->samples_by_pass[std::size_t(pass) - 1]);
+      if (numbers[0] < best_rms_) numbers[1] = judging_.root->judge.rms_deg(whole.data());
+    }
+    detail::check_mpi(MPI_Bcast(numbers, 2, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    judging_.rms_by_pass.push_back(numbers[0]);
+    if (numbers[0] < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
+    if (numbers[0] < best_rms_) {
+      best_rms_ = numbers[0];
+      judging_.best_pass = pass;
+      judging_.best_judged_deg = numbers[1];
+      best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
+    }
+  }
+
+  // The whole cloud's normals after a pass on rank 0 (empty elsewhere), in the whole cloud's rows.
+  std::vector<double> gathered_on_root(const std::vector<double>& owned_normals) {
     std::vector<int> counts3(counts_.size()), displacements3(counts_.size());
     for (std::size_t r = 0; r < counts_.size(); ++r) {
       counts3[r] = 3 * counts_[r];
@@ -106,16 +158,14 @@ class JudgedPasses {
     detail::check_mpi(MPI_Gatherv(owned_normals.data(), int(3 * owned_), MPI_DOUBLE, gathered.data(), counts3.data(),
                                   displacements3.data(), MPI_DOUBLE, 0, comm_),
                       "MPI_Gatherv");
-    double rms = 0;
+    std::vector<double> whole;
     if (judging_.root) {
-      std::vector<double> whole(3 * total_);
+      whole.resize(3 * total_);
       for (std::size_t k = 0; k < total_; ++k) {
         for (int c = 0; c < 3; ++c) whole[3 * all_gids_[k] + std::size_t(c)] = gathered[3 * k + std::size_t(c)];
       }
-      rms = judging_.root->judge.rms_deg(whole.data());
     }
-    detail::check_mpi(MPI_Bcast(&rms, 1, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
-    return rms;
+    return whole;
   }
 
   MPI_Comm comm_;

@@ -13,6 +13,100 @@
 #include "pnf/mpi.hpp"
 
 namespace pnf::mpi {
+namespace {
+
+// This rank's input normals, made unit, with the rows among Stein's samples nudged by the probe
+// (rank 0 sends the samples' rows of the whole cloud, the ranks' rows in rank order, and their
+// nudges): the rows one process's probed run filters. Collective.
+std::vector<double> probed_rows(MPI_Comm comm, const detail::RootJudge& root, const CloudView& local) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  std::vector<double> nudges;  // row, then the probe's x y z, per sample
+  if (rank == 0) {
+    const std::vector<std::size_t>& samples = root.stein.samples();
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+      nudges.push_back(double(samples[s]));
+      for (int c = 0; c < 3; ++c) nudges.push_back(root.stein.probes()[3 * s + std::size_t(c)]);
+    }
+  }
+  unsigned long long size = nudges.size();
+  detail::check_mpi(MPI_Bcast(&size, 1, MPI_UNSIGNED_LONG_LONG, 0, comm), "MPI_Bcast");
+  nudges.resize(size);
+  detail::check_mpi(MPI_Bcast(nudges.data(), int(size), MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  unsigned long long mine = local.size(), first = 0;
+  detail::check_mpi(MPI_Exscan(&mine, &first, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm), "MPI_Exscan");
+  if (rank == 0) first = 0;  // MPI_Exscan leaves rank 0's undefined
+  std::vector<double> rows = pnf::detail::unit_rows(local.normals);
+  for (std::size_t k = 0; k < nudges.size(); k += 4) {
+    const auto row = static_cast<unsigned long long>(nudges[k]);
+    if (row < first || row >= first + mine) continue;
+    for (int c = 0; c < 3; ++c) {
+      rows[3 * (row - first) + std::size_t(c)] += pnf::detail::kSteinProbeStep * nudges[k + 1 + std::size_t(c)];
+    }
+  }
+  return rows;
+}
+
+// One process's stein_run (lib/src/auto/improve_normals_auto.cpp) across the ranks: for each
+// setting, its passes from the probed input, then from the input with each pass estimated on
+// rank 0 as it ends; the lowest estimate of all settings kept unless the judge scores it above
+// the input.
+void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out, const FilterOptions& options,
+               const ProgressCallback& progress, detail::RootJudge& root, DistributedAutoRun& run) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);
+  const double noise = run.choice.estimate.normal_noise_neighbours_deg;  // rank 0's SteinRisk has it too
+  const std::vector<double> probed_input = probed_rows(comm, root, local);
+  const CloudView probed(local.positions, Vec3ArrayView(probed_input.data(), local.size()), local.radii);
+  const std::vector<double> input = pnf::detail::unit_rows(local.normals);
+  std::vector<Vec3> best(local.size()), trial(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) best[i] = {input[3 * i], input[3 * i + 1], input[3 * i + 2]};
+  double best_risk = noise, best_judged = 0;
+  std::size_t best_candidate = 0;
+  std::string estimated = pnf::detail::stein_heading(noise);
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    FilterParams params = candidates[c];
+    params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
+    detail::PassJudging probing;
+    probing.root = rank == 0 ? &root : nullptr;
+    probing.probing = true;
+    probing.budget = params.iterations;
+    detail::improve_normals(comm, probed, MutableVec3ArrayView(trial), params, options, progress, &probing);
+    detail::PassJudging judging;
+    judging.root = probing.root;
+    judging.stein = true;
+    judging.probed = &probing;
+    judging.budget = params.iterations;
+    judging.to_beat = best_risk;
+    judging.rms_by_pass = {noise};
+    const DistributedSummary summary =
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
+    estimated += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
+    if (judging.best_pass > 0) {
+      best.swap(trial);
+      best_candidate = c;
+      run.passes_kept = judging.best_pass;
+      best_risk = judging.rms_by_pass[std::size_t(judging.best_pass)];
+      best_judged = judging.best_judged_deg;
+    }
+    if (c == best_candidate) run.summary = summary;
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
+  }
+  double input_judged = rank == 0 ? root.judge.rms_deg(root.input_normals.data()) : 0.0;
+  detail::check_mpi(MPI_Bcast(&input_judged, 1, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  if (run.passes_kept > 0 && best_judged > input_judged) {
+    run.passes_kept = 0;
+    for (std::size_t i = 0; i < local.size(); ++i) best[i] = {input[3 * i], input[3 * i + 1], input[3 * i + 2]};
+  }
+  for (std::size_t i = 0; i < local.size(); ++i) normals_out.set(i, best[i]);
+  if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
+  run.choice.judged = pnf::detail::stein_judged(input_judged, best_judged) + estimated +
+                      pnf::detail::judged_outcome(best_candidate, run.passes_kept);
+  run.choice.params.iterations = run.passes_kept;
+}
+
+}  // namespace
 
 DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                         const FilterOptions& options, const ProgressCallback& progress,
@@ -28,6 +122,10 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   if (stop_change_deg >= 0) run.choice.params.stop_change_deg = stop_change_deg;
   if (run.choice.params.iterations == 0 || root.empty) {
     run.summary = improve_normals(comm, local, normals_out, run.choice.params, options, progress);
+    return run;
+  }
+  if (pnf::detail::stein_decides(run.choice)) {
+    stein_run(comm, local, normals_out, options, progress, root, run);
     return run;
   }
   const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);

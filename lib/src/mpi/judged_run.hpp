@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "auto/stein_risk.hpp"
 #include "auto/surface_judge.hpp"
 #include "pnf/mpi.hpp"
 
@@ -18,6 +19,7 @@ namespace pnf::mpi::detail {
 struct RootJudge {
   pnf::detail::SurfaceJudge judge;
   std::vector<double> input_normals;  // N by 3, the concatenation of the ranks' rows
+  pnf::detail::SteinRisk stein;       // where Stein's estimate decides (pnf::detail::stein_decides)
   bool empty = true;
 };
 
@@ -30,6 +32,19 @@ struct PassJudging {
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
   std::size_t samples = 0;          // the judge's samples
+  // The run from the probed input where Stein's estimate decides (every rank): its passes are
+  // only recorded, all of `budget` (or as many as the stop rule lets run: `passes`).
+  bool probing = false;
+  std::vector<std::vector<double>> samples_by_pass;  // rank 0: SteinRisk::at_samples of each pass
+  int passes = 0;
+  // The run that Stein's estimate decides (every rank), as one process's stein_run: rms_by_pass
+  // then holds the estimates (the input's noise first, set by the caller), a pass is kept below `to_beat` (the
+  // lowest estimate of the settings before), and the judge scores only the passes kept
+  // (best_judged_deg, the last of them). `probed`: the probing run's (its samples on rank 0).
+  bool stein = false;
+  const PassJudging* probed = nullptr;
+  double to_beat = 0;
+  double best_judged_deg = 0;
 };
 
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's

@@ -1,0 +1,80 @@
+// --auto's noise of the input normals from their neighbours' normals (neighbour_normal_noise.hpp).
+#include "neighbour_normal_noise.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "geometry.hpp"
+#include "sample_neighbourhoods.hpp"
+
+namespace pnf::detail {
+namespace {
+
+// A linear field over the tangent plane has 3 coefficients per component; two of a unit
+// normal's components carry its (tangent) error, so the residuals hold 2 (m - 3) degrees of
+// freedom of the per-axis variance: (m - 3) of the total.
+constexpr int kFieldCoefficients = 3;
+
+// The median of a chi-square of k degrees of freedom over its mean, 1 - 2/(9k) cubed
+// (Wilson-Hilferty; within 0.1% from k = 10).
+double chi_square_median_per_mean(double k) { return std::pow(1 - 2 / (9 * k), 3); }
+
+// One sample's noise variance (radians^2), or NaN where its neighbourhood cannot be fitted.
+double sample_variance(const std::vector<double>& centred, const CloudView& cloud, const std::size_t* ids, int count,
+                       double position_noise) {
+  const std::size_t self = ids[0];
+  Vec3 own = cloud.normals.at(self);
+  const double own_length = geometry::norm(own);
+  if (!(own_length > 0) || !std::isfinite(own_length)) return NAN;
+  own = {own[0] / own_length, own[1] / own_length, own[2] / own_length};
+  Vec3 a, b;
+  geometry::tangent_basis(own, a, b);
+  Eigen::Matrix<double, Eigen::Dynamic, kFieldCoefficients> x(count, kFieldCoefficients);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> y(count, 3);
+  int rows = 0;
+  for (int k = 0; k < count; ++k) {
+    const std::size_t j = ids[k];
+    Vec3 n = cloud.normals.at(j);
+    const double length = geometry::norm(n);
+    if (!(length > 0) || !std::isfinite(length)) continue;
+    const double sign = geometry::dot(n, own) < 0 ? -1.0 : 1.0;
+    const Vec3 d = {centred[3 * j] - centred[3 * self], centred[3 * j + 1] - centred[3 * self + 1],
+                    centred[3 * j + 2] - centred[3 * self + 2]};
+    x.row(rows) << 1, geometry::dot(d, a), geometry::dot(d, b);
+    for (int c = 0; c < 3; ++c) y(rows, c) = sign * n[std::size_t(c)] / length;
+    ++rows;
+  }
+  if (rows <= kFieldCoefficients + 1) return NAN;
+  const auto xs = x.topRows(rows);
+  const auto ys = y.topRows(rows);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(xs);
+  if (qr.rank() < kFieldCoefficients) return NAN;
+  const Eigen::MatrixXd field = qr.solve(Eigen::MatrixXd(ys));  // 3 x 3: offset, then the gradient along a, b
+  const double residual = (ys - xs * field).squaredNorm() / double(rows - kFieldCoefficients);
+  const double gradient = field.bottomRows(2).squaredNorm();
+  return residual - gradient * position_noise * position_noise;
+}
+
+}  // namespace
+
+double neighbour_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
+                                  const SampleNeighbourhoods& nearest, double position_noise) {
+  if (!cloud.has_normals() || nearest.neighbours <= kNoiseNeighbours) return -1;
+  std::vector<double> variances(nearest.samples(), NAN);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (long long s = 0; s < static_cast<long long>(nearest.samples()); ++s) {
+    variances[std::size_t(s)] =
+        sample_variance(centred, cloud, nearest.ids_of(std::size_t(s)), kNoiseNeighbours, position_noise);
+  }
+  variances.erase(std::remove_if(variances.begin(), variances.end(), [](double v) { return std::isnan(v); }),
+                  variances.end());
+  if (variances.empty()) return -1;
+  auto middle = variances.begin() + std::ptrdiff_t(variances.size() / 2);
+  std::nth_element(variances.begin(), middle, variances.end());
+  const double dof = 2.0 * (kNoiseNeighbours - kFieldCoefficients);
+  const double variance = std::max(*middle, 0.0) / chi_square_median_per_mean(dof);
+  return std::sqrt(variance) * 180 / geometry::kPi;
+}
+
+}  // namespace pnf::detail

@@ -1,0 +1,31 @@
+// Internal to --auto: the input normals' own noise, read from the normals of each sample's
+// nearest points rather than from a surface fitted to the positions, for Stein's risk estimate
+// (stein_risk.hpp), which needs the variance of errors independent from point to point.
+#pragma once
+
+#include <vector>
+
+#include "pnf/cloud_view.hpp"
+
+namespace pnf::detail {
+
+struct SampleNeighbourhoods;
+
+// The RMS angle (degrees) of the input normals' errors, where those are independent from point
+// to point: at each sample, the normals of its kNoiseNeighbours nearest points (turned to agree
+// with the sample's) are fitted as a linear function of the position in the sample's tangent
+// plane; the residuals' variance per degree of freedom is the noise plus what the true normals
+// vary by over the position noise (a point displaced along the surface by its noise carries the
+// normal of where it came from: the fitted gradient times the noise, taken out). The median over
+// the samples, for a Gaussian. Errors correlated between neighbours (PCA's) read low; where the
+// position noise is thick against the surface's curvature the correction may take out more
+// than the true normals vary by, so the estimate errs low there too, not high. -1 without
+// normals or without a sample that could be fitted. `nearest`: each sample's nearest points,
+// nearest first (more than kNoiseNeighbours); `position_noise`: per axis, model units.
+double neighbour_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
+                                  const SampleNeighbourhoods& nearest, double position_noise);
+
+// The points of each sample's fit, the sample included.
+constexpr int kNoiseNeighbours = 16;
+
+}  // namespace pnf::detail

@@ -1,0 +1,143 @@
+// Stein's risk estimate of filtered normals (lib/src/auto/stein_risk.hpp), the input normals'
+// noise it takes from their neighbours (neighbour_normal_noise.hpp, DataEstimate::
+// normal_noise_neighbours_deg), and the passes improve_normals_auto keeps with it, against true
+// normals the tests know.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "auto/judged_passes.hpp"
+#include "auto/stein_risk.hpp"
+#include "crease_clouds.hpp"
+#include "pnf/estimate_data.hpp"
+#include "pnf/improve_normals_auto.hpp"
+#include "test_clouds.hpp"
+
+namespace pnf::test {
+namespace {
+
+// The RMS angle (degrees) between two sets of normals, as directions.
+double rms_deg(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += std::pow(angle_deg(a[i], b[i]), 2);
+  return std::sqrt(sum / double(a.size()));
+}
+
+std::vector<Vec3> rows_of(const std::vector<double>& xyz) {
+  std::vector<Vec3> out(xyz.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  return out;
+}
+
+// A sphere of 20000 points whose normals are tilted at random (jitter_normal, about 10.6 deg RMS).
+const PointCloud& tilted_sphere() {
+  static const PointCloud c = jittered_sphere(20000, 1.0, 11, 7.5);
+  return c;
+}
+const std::vector<Vec3>& sphere_truth() {
+  static const PointCloud c = sphere(20000, 1.0, 11);
+  return c.normals;
+}
+
+// The probe's own check: a "filter" that returns its input scores the input's noise (the
+// divergence of the identity is the 2 dimensions of each tangent plane).
+TEST(SteinRisk, TheIdentityScoresTheInputsNoise) {
+  const PointCloud& c = tilted_sphere();
+  const std::vector<double> input = xyz_rows(c.normals);
+  const detail::SteinRisk risk(detail::stein_samples(c.positions), input, 10.0);
+  ASSERT_EQ(risk.samples().size(), c.size());
+  const std::vector<double> probed = risk.probed(input);
+  // Random signs: the divergence per point is 2 on average, within about 1% over 20000 points.
+  EXPECT_NEAR(risk.risk_deg(risk.at_samples(input.data()), risk.at_samples(probed.data())), 10.0, 0.15);
+  EXPECT_DOUBLE_EQ(risk.input_risk_deg(), 10.0);
+}
+
+// The estimate against the truth: the filter's passes over tilted normals, each estimated from
+// the input and the probed input alone, and measured against the true normals.
+TEST(SteinRisk, EstimatesTheFiltersTrueErrorPassByPass) {
+  const PointCloud& c = tilted_sphere();
+  const double noise = rms_deg(c.normals, sphere_truth());
+  const std::vector<double> input = xyz_rows(c.normals);
+  const detail::SteinRisk risk(detail::stein_samples(c.positions), input, noise);
+  const std::vector<double> probed_input = risk.probed(input);
+  const CloudView probed(Vec3ArrayView(c.positions), Vec3ArrayView(probed_input.data(), c.size()));
+  FilterParams params;  // the paper's setting: its feature term makes the filter non-linear
+  params.iterations = 3;
+  std::vector<std::vector<double>> filtered;
+  std::vector<double> truth_by_pass;
+  std::vector<Vec3> out(c.size());
+  NormalFilter& filter = fastest_filter();
+  filter.run_observed(c, MutableVec3ArrayView(out), params, [&](int, const std::vector<double>& normals) {
+    filtered.push_back(risk.at_samples(normals.data()));
+    truth_by_pass.push_back(rms_deg(rows_of(normals), sphere_truth()));
+    return true;
+  });
+  std::vector<double> estimated;
+  filter.run_observed(probed, MutableVec3ArrayView(out), params, [&](int pass, const std::vector<double>& normals) {
+    estimated.push_back(risk.risk_deg(filtered[std::size_t(pass) - 1], risk.at_samples(normals.data())));
+    return true;
+  });
+  ASSERT_EQ(estimated.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    // The squared error within 1% of the input's squared noise: the estimate subtracts the
+    // noise squared from |f - y|^2, both about that size, so its error is a share of the noise
+    // squared, not of the risk (which falls from about 112 deg^2 to about 1 here).
+    EXPECT_NEAR(std::copysign(estimated[k] * estimated[k], estimated[k]), truth_by_pass[k] * truth_by_pass[k],
+                0.01 * noise * noise)
+        << "pass " << k + 1 << ": " << estimated[k] << " deg estimated, truly " << truth_by_pass[k];
+  }
+  EXPECT_LT(truth_by_pass[2], 0.5 * noise);
+}
+
+// The noise the estimate takes: the errors' own size where they are independent; nearly none
+// for exact normals, also on noisy positions (where the true normals a displaced point carries
+// vary with the noise, and are taken out).
+TEST(NeighbourNormalNoise, ReadsIndependentErrorsAndNotTheSurface) {
+  const PointCloud& c = tilted_sphere();
+  const double noise = rms_deg(c.normals, sphere_truth());
+  const DataEstimate tilted = estimate_data(c);
+  EXPECT_NEAR(tilted.normal_noise_neighbours_deg, noise, 0.04 * noise);
+  const PointCloud exact = sphere(20000, 1.0, 11);
+  EXPECT_LT(estimate_data(exact).normal_noise_neighbours_deg, 0.05 * noise);
+  // Positions moved by 0.5 spacings along every axis, normals still the true ones of where the
+  // points came from.
+  PointCloud moved = exact;
+  std::mt19937 rng(4);
+  std::normal_distribution<double> gauss(0, 0.5 * std::sqrt(4 * kPi / 20000));
+  for (Vec3& p : moved.positions) {
+    for (double& x : p) x += gauss(rng);
+  }
+  EXPECT_LT(estimate_data(moved).normal_noise_neighbours_deg, 0.1 * noise);
+  PointCloud none = exact;
+  none.normals.clear();
+  EXPECT_EQ(estimate_data(none).normal_noise_neighbours_deg, -1);
+}
+
+// The whole run on tilted normals: Stein's estimate decides, and the normals kept are much
+// better than the input, and as good as the best pass of the setting kept, within 5%.
+TEST(ImproveNormalsAuto, KeepsThePassSteinsEstimateFindsBestOnIndependentErrors) {
+  const PointCloud& c = tilted_sphere();
+  const double input = rms_deg(c.normals, sphere_truth());
+  std::vector<Vec3> out(c.size());
+  NormalFilter& filter = fastest_filter();
+  const AutoRun run = improve_normals_auto(c, MutableVec3ArrayView(out), filter);
+  ASSERT_TRUE(detail::stein_decides(run.choice)) << run.choice.rule;
+  EXPECT_NE(run.choice.judged.find("Stein's risk estimate"), std::string::npos) << run.choice.judged;
+  ASSERT_GT(run.passes_kept, 0) << run.choice.judged;
+  const double kept = rms_deg(out, sphere_truth());
+  EXPECT_LT(kept, 0.5 * input);
+  double best = input;
+  for (int passes = 1; passes <= 8; ++passes) {
+    FilterParams params = run.choice.params;
+    params.iterations = passes;
+    std::vector<Vec3> trial(c.size());
+    filter.run(c, MutableVec3ArrayView(trial), params);
+    best = std::min(best, rms_deg(trial, sphere_truth()));
+  }
+  EXPECT_LE(kept, 1.05 * best) << run.choice.judged;
+}
+
+}  // namespace
+}  // namespace pnf::test
