@@ -36,8 +36,6 @@ class SurfaceJudge {
   bool empty() const { return ids_.empty(); }
   std::size_t size() const { return ids_.size(); }
   int neighbours() const { return neighbours_; }
-  // The samples' rows in the cloud.
-  const std::vector<std::size_t>& rows() const { return ids_; }
   // The points of the fits that score (the nearest of each neighbourhood): all `neighbours` at
   // first; choose_scale may take the nearest quarter instead.
   int scored() const { return scored_; }
