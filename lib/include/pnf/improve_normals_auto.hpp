@@ -19,8 +19,10 @@ struct AutoRun {
   AutoChoice choice;
   FilterSummary summary;  // the filter's run (passes_run: the passes tried)
   int passes_kept = 0;
-  // The judge's RMS angle (degrees) to the surface fitted to the positions, of the input normals
-  // and after each pass; empty when no pass ran or no fit was smooth enough to judge.
+  // What the passes kept were chosen on, after each pass run (every setting's in turn): the
+  // judge's RMS angle (degrees) to the surface fitted to the positions; or, where the input
+  // normals' errors are independent and Stein's estimate decides (docs/auto.md), its estimate
+  // of the RMS angle to the truth. Empty when no pass ran or no fit was smooth enough to judge.
   std::vector<double> judged_rms_deg;
 };
 
