@@ -139,5 +139,27 @@ TEST(ImproveNormalsAuto, KeepsThePassSteinsEstimateFindsBestOnIndependentErrors)
   EXPECT_LE(kept, 1.05 * best) << run.choice.judged;
 }
 
+// In place (the output is the cloud's own normals) as out of place: every run of every setting,
+// the probed ones included, reads the input normals, not an earlier run's output.
+TEST(ImproveNormalsAuto, InPlaceGivesTheSameNormalsAsOutOfPlace) {
+  // A 90-degree crease with 10-degree tilts: the rule's edge-keeping setting and the line for
+  // independent errors both run.
+  const Crease crease = make_crease(90, 20000, 0.0, 3);
+  PointCloud c = crease.cloud;
+  std::mt19937 rng(8);
+  for (const Vec3& n : crease.truth) c.normals.push_back(jitter_normal(n, 7.0, rng));
+  std::vector<Vec3> out(c.size());
+  NormalFilter& filter = fastest_filter();
+  const AutoRun apart = improve_normals_auto(c, MutableVec3ArrayView(out), filter);
+  ASSERT_TRUE(detail::stein_decides(apart.choice)) << apart.choice.rule;
+  ASSERT_EQ(detail::judged_candidates(apart.choice).size(), 2u) << "two settings, so a second run follows the first";
+  PointCloud in_place = c;
+  const AutoRun same = improve_normals_auto(in_place, MutableVec3ArrayView(in_place.normals), filter);
+  EXPECT_EQ(same.choice.judged, apart.choice.judged);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) differ += out[i] != in_place.normals[i];
+  EXPECT_EQ(differ, 0u);
+}
+
 }  // namespace
 }  // namespace pnf::test

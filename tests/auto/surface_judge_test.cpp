@@ -207,6 +207,31 @@ TEST(ImproveNormalsAuto, CanBeCancelledWithinTheEstimatesSearches) {
   EXPECT_EQ(out[0][0], 0.0);
 }
 
+// Without normals (or with a zero one) the run is refused with the filter's reason, before the
+// estimate and the judge read them (a cloud without normals once crashed the judge).
+TEST(ImproveNormalsAuto, RefusesACloudWithoutNormalsOrWithAZeroNormal) {
+  PointCloud s = sphere(3000, 1.0, 1);
+  std::vector<Vec3> out(s.size());
+  PointCloud none = s;
+  none.normals.clear();
+  try {
+    improve_normals_auto(none, MutableVec3ArrayView(out), fastest_filter());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string(e.what()).find("improve_normals_auto: the cloud has no normals"), std::string::npos)
+        << e.what();
+  }
+  s.normals[17] = {0, 0, 0};
+  try {
+    improve_normals_auto(s, MutableVec3ArrayView(out), fastest_filter());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string(e.what()).find("vertex 17"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ImproveNormalsAuto, RefusesAnOutputOfTheWrongSize) {
   const PointCloud s = sphere(100, 1.0, 1);
   std::vector<Vec3> out(99);

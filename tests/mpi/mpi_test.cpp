@@ -98,7 +98,9 @@ std::vector<std::size_t> one_empty(std::size_t n, int p) {
 PointCloud slice(const PointCloud& cloud, std::size_t begin, std::size_t end) {
   PointCloud part;
   part.positions.assign(cloud.positions.begin() + std::ptrdiff_t(begin), cloud.positions.begin() + std::ptrdiff_t(end));
-  part.normals.assign(cloud.normals.begin() + std::ptrdiff_t(begin), cloud.normals.begin() + std::ptrdiff_t(end));
+  if (!cloud.normals.empty()) {
+    part.normals.assign(cloud.normals.begin() + std::ptrdiff_t(begin), cloud.normals.begin() + std::ptrdiff_t(end));
+  }
   if (!cloud.radii.empty()) {
     part.radii.assign(cloud.radii.begin() + std::ptrdiff_t(begin), cloud.radii.begin() + std::ptrdiff_t(end));
   }
@@ -326,6 +328,24 @@ TEST(MpiAuto, UnestimableCloudIsRefusedWithItsCause) {
       EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
       EXPECT_NE(std::string(e.what()).find(one_process), std::string::npos) << e.what();
     }
+  }
+}
+
+// A cloud without normals is refused by --auto across the ranks as by one process (it once
+// crashed the judge on rank 0), on every rank.
+TEST(MpiAuto, CloudWithoutNormalsIsRefusedAsByOneProcess) {
+  PointCloud cloud = house().cloud;
+  cloud.normals.clear();
+  const std::vector<std::size_t> first = even(cloud.size(), ranks());
+  const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+  std::vector<Vec3> normals(part.size());
+  try {
+    mpi::improve_normals_auto(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), reference_options());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
+    EXPECT_NE(std::string(e.what()).find("improve_normals_auto: the cloud has no normals"), std::string::npos)
+        << e.what();
   }
 }
 

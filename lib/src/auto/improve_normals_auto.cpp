@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "cloud_checks.hpp"
 #include "judged_passes.hpp"
 #include "pnf/error.hpp"
 #include "pnf/improve_normals_auto.hpp"
@@ -36,6 +37,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
   const std::vector<double> probed_input = risk.probed(input);
   const CloudView probed(cloud.positions, Vec3ArrayView(probed_input.data(), cloud.size()), cloud.radii);
   std::vector<double> best = input;
+  std::vector<Vec3> scratch(cloud.size());  // each run's output (the observers copy what they keep)
   double best_risk = risk.input_risk_deg(), best_judged = 0;
   std::size_t best_candidate = 0;
   std::string estimated = detail::stein_heading(risk.input_risk_deg());
@@ -44,7 +46,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
     params.iterations = detail::judged_pass_budget(params, run.choice);
     std::vector<std::vector<double>> probed_by_pass;
     filter.run_observed(
-        probed, normals_out, params,
+        probed, MutableVec3ArrayView(scratch), params,
         [&](int, const std::vector<double>& normals) {
           probed_by_pass.push_back(risk.at_samples(normals.data()));
           return true;
@@ -66,7 +68,8 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
       return !detail::judged_passes_end(risk_by_pass, best_pass_here, detail::kNoBar, params.iterations) &&
              std::size_t(pass) < probed_by_pass.size();
     };
-    const FilterSummary summary = filter.run_observed(cloud, normals_out, params, after_pass, progress);
+    const FilterSummary summary =
+        filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
     if (c == best_candidate) run.summary = summary;
     estimated += detail::judged_candidate(c, params, risk_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), risk_by_pass.begin() + 1, risk_by_pass.end());
@@ -86,7 +89,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
 
 }  // namespace
 
-// A zero normal is refused by the filter, which runs first.
+// A zero normal is refused before (improve_normals_auto checks the cloud as the filter does).
 std::vector<double> detail::unit_rows(const Vec3ArrayView& normals) {
   std::vector<double> rows(3 * normals.count);
   for (std::size_t i = 0; i < normals.count; ++i) {
@@ -168,6 +171,10 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
                                                  std::to_string(normals_out.count) + " rows for " +
                                                  std::to_string(cloud.size()) + " points");
   }
+  // The filter's own checks, before the estimate and the judge read the normals.
+  detail::CloudRequirements requirements = detail::CloudRequirements::filter();
+  requirements.caller = "improve_normals_auto";
+  detail::check_cloud(cloud, requirements);
   // The estimate and the judge's neighbourhoods (under a second per 100k points) report as one
   // stage, their neighbour searches about every 0.1 s (a cancel honoured there); the passes then
   // report as the filter's do.
@@ -193,11 +200,13 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     return run;
   }
   const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
-  // A copy: normals_out may be the cloud's own normals.
+  // Copies: normals_out may be the cloud's own normals, and every run must read the input, so
+  // the runs write elsewhere and normals_out gets the normals kept at the end.
   const std::vector<double> input = detail::unit_rows(cloud.normals);
   if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(input.data());
   if (detail::stein_decides(run.choice)) return stein_run(cloud, normals_out, filter, progress, judge, input, run);
   std::vector<double> best = input;
+  std::vector<Vec3> scratch(cloud.size());
   const double input_rms = judge.rms_deg(input.data());
   const double own_error = judge.own_error_deg(input.data());
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
@@ -222,7 +231,8 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
       }
       return !detail::judged_passes_end(rms_by_pass, best_pass_here, best_rms, params.iterations);
     };
-    const FilterSummary summary = filter.run_observed(cloud, normals_out, params, after_pass, progress);
+    const FilterSummary summary =
+        filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
     if (c == best_candidate) run.summary = summary;
     judged += detail::judged_candidate(c, params, rms_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());

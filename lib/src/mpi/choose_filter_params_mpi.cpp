@@ -133,6 +133,11 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
   agree.run([&] {
     if (rank != 0) return;
     const std::size_t n = positions.size() / 3;
+    if (root && normals.empty() && n > 0) {
+      throw Error(ErrorCode::invalid_input,
+                  "improve_normals_auto: the cloud has no normals; estimate them first (pnf estimate, or "
+                  "pnf::estimate_normals)");
+    }
     if (!normals.empty() && normals.size() != positions.size()) {
       throw Error(ErrorCode::invalid_input, "--auto: some ranks' points have normals and others' do not");
     }
