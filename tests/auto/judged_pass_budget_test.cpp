@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <utility>
+#include <vector>
 
 #include "auto/judged_passes.hpp"
 #include "pnf/choose_filter_params.hpp"
@@ -40,6 +41,23 @@ TEST(JudgedPassBudget, TheIndependentErrorsLineRunsItsOwnPasses) {
     EXPECT_TRUE(detail::on_independent_errors_line(choice, line));
     EXPECT_EQ(line.iterations, passes) << noise_deg << " deg";
     EXPECT_EQ(detail::judged_pass_budget(line, choice), passes) << noise_deg << " deg";
+  }
+}
+
+// Where Stein's estimate decides, plain averaging at the paper's sigma_f runs beside the judged
+// settings, for the line's own one or two passes.
+TEST(JudgedPassBudget, PlainAveragingRunsTheLinesPassesBesideTheJudgedSettings) {
+  for (auto [noise_deg, passes] : {std::pair{5.0, 1}, std::pair{10.0, 2}}) {
+    const AutoChoice choice = choice_with(noise_deg, true);
+    const std::vector<FilterParams> judged = detail::judged_candidates(choice);
+    const std::vector<FilterParams> stein = detail::stein_candidates(choice);
+    ASSERT_EQ(stein.size(), judged.size() + 1);
+    const FilterParams plain = stein.back();
+    EXPECT_EQ(plain.sigma_f, FilterParams().sigma_f);
+    EXPECT_GE(plain.sigma_g, 1e5) << "the feature term off";
+    EXPECT_EQ(plain.units, Units::radius);
+    EXPECT_EQ(plain.iterations, passes);
+    EXPECT_EQ(detail::judged_pass_budget(plain, choice), passes) << noise_deg << " deg";
   }
 }
 

@@ -323,6 +323,15 @@ FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
   return p;
 }
 
+FilterParams detail::plain_averaging_setting(const AutoChoice& choice) {
+  FilterParams p = choice.params;
+  p.sigma_f = FilterParams().sigma_f;
+  p.sigma_g = kSigmaGOff;
+  p.units = Units::radius;
+  p.iterations = choice.estimate.normal_noise_deg < kIndependentOnePassDeg ? 1 : 2;
+  return p;
+}
+
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
 bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterParams& params) {

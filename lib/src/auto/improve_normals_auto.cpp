@@ -22,6 +22,11 @@ std::string number(double value) {
   return text;
 }
 
+// The same filter setting, whatever its passes.
+bool is_setting(const FilterParams& a, const FilterParams& b) {
+  return a.sigma_f == b.sigma_f && a.sigma_g == b.sigma_g && a.units == b.units;
+}
+
 // improve_normals_auto where Stein's estimate decides (detail::stein_decides): for each setting,
 // its passes from the probed input first (every pass of its budget, kept at the estimate's
 // samples), then from the input, each pass estimated as it ends; the passes end two past the
@@ -31,7 +36,7 @@ std::string number(double value) {
 AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
                   const ProgressCallback& progress, const detail::SurfaceJudge& judge, const std::vector<double>& input,
                   AutoRun& run) {
-  const std::vector<FilterParams> candidates = detail::judged_candidates(run.choice);
+  const std::vector<FilterParams> candidates = detail::stein_candidates(run.choice);
   const detail::SteinRisk risk(detail::stein_samples(cloud.positions), input,
                                run.choice.estimate.normal_noise_neighbours_deg);
   const std::vector<double> probed_input = risk.probed(input);
@@ -123,8 +128,19 @@ bool detail::judged_passes_end(const std::vector<double>& rms_by_pass, int best_
          rms_by_pass[std::size_t(pass)] - std::max(gain, gain_before) * (budget - pass) >= to_beat;
 }
 
+std::vector<FilterParams> detail::stein_candidates(const AutoChoice& choice) {
+  std::vector<FilterParams> candidates = judged_candidates(choice);
+  const FilterParams plain = plain_averaging_setting(choice);
+  if (std::none_of(candidates.begin(), candidates.end(), [&](const FilterParams& p) { return is_setting(p, plain); })) {
+    candidates.push_back(plain);
+  }
+  return candidates;
+}
+
 int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& choice) {
-  if (on_independent_errors_line(choice, params)) return params.iterations;
+  if (on_independent_errors_line(choice, params) || is_setting(params, plain_averaging_setting(choice))) {
+    return params.iterations;
+  }
   return std::max(params.iterations, kJudgedPassBudget);
 }
 
@@ -146,8 +162,9 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
 
 std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
   if (passes_kept == 0) return ": the input normals kept";
-  return std::string(": ") + (best_candidate == 0 ? "the rule's setting" : "the other setting") + ", " +
-         std::to_string(passes_kept) + (passes_kept == 1 ? " pass kept" : " passes kept");
+  const char* names[] = {"the rule's setting", "the other setting", "the third setting"};
+  return std::string(": ") + names[std::min<std::size_t>(best_candidate, 2)] + ", " + std::to_string(passes_kept) +
+         (passes_kept == 1 ? " pass kept" : " passes kept");
 }
 
 bool detail::stein_decides(const AutoChoice& choice) {

@@ -35,7 +35,7 @@ constexpr double kNoBar = -std::numeric_limits<double>::infinity();
 
 // The passes the judge may run of `params`: the budget above, or the setting's own passes where
 // more; but the line for independent errors (on_independent_errors_line) runs its own 1 or 2
-// passes at most. Averaging removes independent errors in a pass or two; past those, the line's
+// passes at most, and so does plain_averaging_setting. Averaging removes independent errors in a pass or two; past those, the line's
 // wide sigma_g lets each pass smooth the surface's detail, and the judge's fits, which smooth it
 // alike, agree with every pass (the crank at 0.25% noise with 10-degree tilts: 9.9 deg in, 6.7
 // after one pass, 21.8 after the eight the judge kept; the cylinder at 0.5 spacings with 4-degree
@@ -65,6 +65,17 @@ bool on_independent_errors_line(const AutoChoice& choice, const FilterParams& pa
 // own params where that line does not apply (flat shapes with gentle creases or none, or noise
 // that hides the features). choose_filter_params.cpp.
 FilterParams independent_errors_setting(const AutoChoice& choice);
+
+// The paper's sigma_f with the feature term off (plain averaging), for the line's 1 or 2 passes
+// (independent_errors_line's count): on independent errors the grid's best setting on 23 of the
+// real meshes' 27 tilted cases was one or two passes of plain averaging or of sigma_g 2 mean
+// radii. Stein's estimate runs it beside judged_candidates (stein_candidates); the judge does
+// not, as plain averaging smooths detail finer than its fits, which it cannot see.
+// choose_filter_params.cpp.
+FilterParams plain_averaging_setting(const AutoChoice& choice);
+// The settings where Stein's estimate decides: judged_candidates, and plain_averaging_setting
+// where it is not one of them.
+std::vector<FilterParams> stein_candidates(const AutoChoice& choice);
 
 // The settings the judge tries, first the rule's: and where the estimate sees input normals whose
 // errors may not follow the positions (independent_normal_errors: a scanner's, a mesh's), the line

@@ -55,7 +55,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
                const ProgressCallback& progress, detail::RootJudge& root, DistributedAutoRun& run) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);
+  const std::vector<FilterParams> candidates = pnf::detail::stein_candidates(run.choice);
   const double noise = run.choice.estimate.normal_noise_neighbours_deg;  // rank 0's SteinRisk has it too
   const std::vector<double> probed_input = probed_rows(comm, root, local);
   const CloudView probed(local.positions, Vec3ArrayView(probed_input.data(), local.size()), local.radii);
