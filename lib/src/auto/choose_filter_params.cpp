@@ -193,7 +193,8 @@ void independent_errors_line(const DataEstimate& estimate, FilterParams& p) {
 // gentle creases or none, nor where noise hides the features).
 bool has_independent_errors_line(const DataEstimate& e) {
   const bool curved = e.curved_share >= kCurvedShare;
-  const bool flat_gentle = !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
+  const bool flat_gentle =
+      !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
   return !flat_gentle && e.position_noise_area_spacings() <= kFeatureOffNoise;
 }
 
@@ -222,16 +223,17 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
   p.mean_radius = estimate.mean_radius;
   p.stop_change_deg = kStopChangeDeg;
   const bool curved = estimate.curved_share >= kCurvedShare, flat = !curved;
-  const bool faint_creases = flat && estimate.crease_length < kEdgesCreaseLength &&
-                             estimate.normal_crease_length >= kFaintCreaseNormalLength;
+  const bool faint_creases =
+      flat && estimate.crease_length < kEdgesCreaseLength && estimate.normal_crease_length >= kFaintCreaseNormalLength;
   const bool smooth = estimate.crease_length < kEdgesCreaseLength && !faint_creases;
   const double normal_noise = estimate.normal_noise_deg;
   const bool gentle_or_none = smooth || estimate.crease_sharpness < kGentleCreaseSharpness;
-  std::string why = std::string(smooth ? "smooth" : faint_creases ? "faint creases" : "edges") + " (crease length " +
-                    format("%.2f", estimate.crease_length) + " per size" +
-                    (faint_creases ? ", in the normals " + format("%.2f", estimate.normal_crease_length) : "") +
-                    "), " + (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) +
-                    "% curved)";
+  std::string why = std::string(smooth          ? "smooth"
+                                : faint_creases ? "faint creases"
+                                                : "edges") +
+                    " (crease length " + format("%.2f", estimate.crease_length) + " per size" +
+                    (faint_creases ? ", in the normals " + format("%.2f", estimate.normal_crease_length) : "") + "), " +
+                    (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) + "% curved)";
   if (noise > kFeatureOffNoise) {
     p.sigma_f = kTooNoisySigmaF;
     p.sigma_g = kSigmaGOff;
@@ -273,8 +275,8 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
       why += gentle ? ", gentle creases (sharpness " : ", sharp creases (sharpness ";
       why += format("%.3f", estimate.crease_sharpness) + ")";
     } else {
-      p.sigma_f = std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerRootNoise * std::sqrt(noise),
-                           kCurvedEdgesSigmaFMax);
+      p.sigma_f =
+          std::min(kCurvedEdgesSigmaF0 + kCurvedEdgesSigmaFPerRootNoise * std::sqrt(noise), kCurvedEdgesSigmaFMax);
       const bool fine_features = estimate.crease_length >= kFineFeaturesCreaseLength;
       if (noise < kNoFilterNoise) {
         p.iterations = kCurvedEdgesCleanPasses;

@@ -35,8 +35,8 @@ constexpr double kNoBar = -std::numeric_limits<double>::infinity();
 
 // The passes the judge may run of `params`: the budget above, or the setting's own passes where
 // more; but the line for independent errors (on_independent_errors_line) runs its own 1 or 2
-// passes at most, and so does plain_averaging_setting. Averaging removes independent errors in a pass or two; past those, the line's
-// wide sigma_g lets each pass smooth the surface's detail, and the judge's fits, which smooth it
+// passes at most, and so does plain_averaging_setting. Averaging removes independent errors in a pass or two; past
+// those, the line's wide sigma_g lets each pass smooth the surface's detail, and the judge's fits, which smooth it
 // alike, agree with every pass (the crank at 0.25% noise with 10-degree tilts: 9.9 deg in, 6.7
 // after one pass, 21.8 after the eight the judge kept; the cylinder at 0.5 spacings with 4-degree
 // tilts: 4.0 in, 7.7 after eight). The rule's other lines keep sharp features with a tight
