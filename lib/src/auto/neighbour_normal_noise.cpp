@@ -27,7 +27,7 @@ double sample_variance(const std::vector<double>& centred, const CloudView& clou
   Vec3 own = cloud.normals.at(self);
   const double own_length = geometry::norm(own);
   if (!(own_length > 0) || !std::isfinite(own_length)) return NAN;
-  own = {own[0] / own_length, own[1] / own_length, own[2] / own_length};
+  own = geometry::normalized(own);
   Vec3 a, b;
   geometry::tangent_basis(own, a, b);
   Eigen::Matrix<double, Eigen::Dynamic, kFieldCoefficients> x(count, kFieldCoefficients);

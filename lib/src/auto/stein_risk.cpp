@@ -21,12 +21,6 @@ double sign_of(std::uint64_t key) {
   return (z & 1) ? 1.0 : -1.0;
 }
 
-Vec3 unit_row(const double* normals, std::size_t row) {
-  const Vec3 v = {normals[3 * row], normals[3 * row + 1], normals[3 * row + 2]};
-  const double length = geometry::norm(v);
-  return {v[0] / length, v[1] / length, v[2] / length};
-}
-
 }  // namespace
 
 std::vector<std::size_t> stein_samples(const Vec3ArrayView& positions) {
@@ -62,7 +56,8 @@ std::vector<double> SteinRisk::probed(const std::vector<double>& unit_input) con
 std::vector<double> SteinRisk::at_samples(const double* normals) const {
   std::vector<double> rows(3 * samples_.size());
   for (std::size_t s = 0; s < samples_.size(); ++s) {
-    const Vec3 n = unit_row(normals, samples_[s]);
+    const std::size_t row = samples_[s];
+    const Vec3 n = geometry::normalized({normals[3 * row], normals[3 * row + 1], normals[3 * row + 2]});
     for (int c = 0; c < 3; ++c) rows[3 * s + std::size_t(c)] = n[std::size_t(c)];
   }
   return rows;

@@ -59,9 +59,10 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   const double noise = run.choice.estimate.normal_noise_neighbours_deg;  // rank 0's SteinRisk has it too
   const std::vector<double> probed_input = probed_rows(comm, root, local);
   const CloudView probed(local.positions, Vec3ArrayView(probed_input.data(), local.size()), local.radii);
-  const std::vector<double> input = pnf::detail::unit_rows(local.normals);
-  std::vector<Vec3> best(local.size()), trial(local.size());
-  for (std::size_t i = 0; i < local.size(); ++i) best[i] = {input[3 * i], input[3 * i + 1], input[3 * i + 2]};
+  const std::vector<double> unit = pnf::detail::unit_rows(local.normals);
+  std::vector<Vec3> input(local.size()), trial(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) input[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
+  std::vector<Vec3> best = input;
   double best_risk = noise, best_judged = 0;
   std::size_t best_candidate = 0;
   std::string estimated = pnf::detail::stein_heading(noise);
@@ -97,7 +98,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   detail::check_mpi(MPI_Bcast(&input_judged, 1, MPI_DOUBLE, 0, comm), "MPI_Bcast");
   if (run.passes_kept > 0 && best_judged > input_judged) {
     run.passes_kept = 0;
-    for (std::size_t i = 0; i < local.size(); ++i) best[i] = {input[3 * i], input[3 * i + 1], input[3 * i + 2]};
+    best = input;
   }
   for (std::size_t i = 0; i < local.size(); ++i) normals_out.set(i, best[i]);
   if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
