@@ -31,8 +31,8 @@ bool is_setting(const FilterParams& a, const FilterParams& b) {
 // its passes from the probed input first (every pass of its budget, kept at the estimate's
 // samples), then from the input, each pass estimated as it ends; the passes end two past the
 // setting's lowest estimate, and the lowest of all settings is kept if the surface judge does not
-// score it above the input (a veto against a noise estimate gone wrong). Only the passes that
-// become the lowest so far are judged. `input`: the input normals, unit.
+// score it above the input (a veto against a noise estimate gone wrong); the judge scores only
+// the pass kept. `input`: the input normals, unit.
 AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
                   const ProgressCallback& progress, const detail::SurfaceJudge& judge, const std::vector<double>& input,
                   AutoRun& run) {
@@ -43,7 +43,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
   const CloudView probed(cloud.positions, Vec3ArrayView(probed_input.data(), cloud.size()), cloud.radii);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());  // each run's output (the observers copy what they keep)
-  double best_risk = risk.input_risk_deg(), best_judged = 0;
+  double best_risk = risk.input_risk_deg();
   std::size_t best_candidate = 0;
   std::string estimated = detail::stein_heading(risk.input_risk_deg());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
@@ -64,7 +64,6 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
       if (risk_by_pass.back() < risk_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
       if (risk_by_pass.back() < best_risk) {
         best_risk = risk_by_pass.back();
-        best_judged = judge.rms_deg(normals.data());
         best = normals;
         best_candidate = c;
         run.passes_kept = pass;
@@ -80,7 +79,8 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), risk_by_pass.begin() + 1, risk_by_pass.end());
   }
   const double input_judged = judge.rms_deg(input.data());
-  if (run.passes_kept > 0 && best_judged > input_judged) {
+  const double best_judged = run.passes_kept > 0 ? judge.rms_deg(best.data()) : 0.0;
+  if (best_judged > input_judged) {
     run.passes_kept = 0;
     best = input;
   }

@@ -12,12 +12,8 @@
 #include "pnf/mpi.hpp"
 
 namespace pnf::mpi {
-namespace {
 
-// Every rank's rows on rank 0, in rank order: the cloud one process would read (the
-// concatenation of the ranks' inputs), so rank 0's estimate is one process's, bit for bit; empty
-// on the other ranks.
-std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine) {
+std::vector<double> detail::gather_rows(MPI_Comm comm, const std::vector<double>& mine) {
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &ranks);
@@ -41,6 +37,8 @@ std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine) 
       "MPI_Gatherv");
   return all;
 }
+
+namespace {
 
 std::vector<double> rows_of(const Vec3ArrayView& view) {
   std::vector<double> rows(3 * view.count);
@@ -121,13 +119,13 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
   // are one process's, whatever the ranks and their slices.
   std::vector<double> positions, normals, radii;
   agree.run([&] {
-    positions = gather_rows(comm, rows_of(local.positions));
-    normals = gather_rows(comm, rows_of(local.normals));
+    positions = detail::gather_rows(comm, rows_of(local.positions));
+    normals = detail::gather_rows(comm, rows_of(local.normals));
     std::vector<double> my_radii;
     if (local.has_radii()) {
       for (std::size_t i = 0; i < local.size(); ++i) my_radii.push_back(local.radii.get(i));
     }
-    radii = gather_rows(comm, my_radii);
+    radii = detail::gather_rows(comm, my_radii);
   });
   AutoChoice choice;
   agree.run([&] {

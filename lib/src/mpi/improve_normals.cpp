@@ -125,24 +125,22 @@ class JudgedPasses {
   }
 
   // Where Stein's estimate decides: the pass's estimate (from rank 0, on every rank), and where it
-  // is the lowest so far, the judge's score of it and this rank's normals kept.
+  // is the lowest so far, this rank's normals kept.
   void estimated_on_root(const std::vector<double>& owned_normals) {
     const std::vector<double> whole = gathered_on_root(owned_normals);
     const int pass = int(judging_.rms_by_pass.size());
-    double numbers[2] = {0, 0};  // the estimate, the judge's score where it is the lowest so far
+    double estimate = 0;
     if (judging_.root) {
       const pnf::detail::SteinRisk& stein = judging_.root->stein;
-      numbers[0] =
+      estimate =
           stein.risk_deg(stein.at_samples(whole.data()), judging_.probed->samples_by_pass[std::size_t(pass) - 1]);
-      if (numbers[0] < best_rms_) numbers[1] = judging_.root->judge.rms_deg(whole.data());
     }
-    detail::check_mpi(MPI_Bcast(numbers, 2, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
-    judging_.rms_by_pass.push_back(numbers[0]);
-    if (numbers[0] < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
-    if (numbers[0] < best_rms_) {
-      best_rms_ = numbers[0];
+    detail::check_mpi(MPI_Bcast(&estimate, 1, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    judging_.rms_by_pass.push_back(estimate);
+    if (estimate < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
+    if (estimate < best_rms_) {
+      best_rms_ = estimate;
       judging_.best_pass = pass;
-      judging_.best_judged_deg = numbers[1];
       best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
     }
   }

@@ -63,7 +63,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   std::vector<Vec3> input(local.size()), trial(local.size());
   for (std::size_t i = 0; i < local.size(); ++i) input[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
   std::vector<Vec3> best = input;
-  double best_risk = noise, best_judged = 0;
+  double best_risk = noise;
   std::size_t best_candidate = 0;
   std::string estimated = pnf::detail::stein_heading(noise);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
@@ -89,14 +89,24 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
       best_candidate = c;
       run.passes_kept = judging.best_pass;
       best_risk = judging.rms_by_pass[std::size_t(judging.best_pass)];
-      best_judged = judging.best_judged_deg;
     }
     if (c == best_candidate) run.summary = summary;
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
-  double input_judged = rank == 0 ? root.judge.rms_deg(root.input_normals.data()) : 0.0;
-  detail::check_mpi(MPI_Bcast(&input_judged, 1, MPI_DOUBLE, 0, comm), "MPI_Bcast");
-  if (run.passes_kept > 0 && best_judged > input_judged) {
+  // The judge scores the input and the pass kept (gathered on rank 0 as one process holds it).
+  double judged[2] = {0, 0};
+  std::vector<double> kept;  // every rank takes the same branch: passes_kept is the same on all
+  if (run.passes_kept > 0) {
+    for (const Vec3& v : best) kept.insert(kept.end(), v.begin(), v.end());
+    kept = detail::gather_rows(comm, kept);
+  }
+  if (rank == 0) {
+    judged[0] = root.judge.rms_deg(root.input_normals.data());
+    if (run.passes_kept > 0) judged[1] = root.judge.rms_deg(kept.data());
+  }
+  detail::check_mpi(MPI_Bcast(judged, 2, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  const double input_judged = judged[0], best_judged = judged[1];
+  if (best_judged > input_judged) {
     run.passes_kept = 0;
     best = input;
   }

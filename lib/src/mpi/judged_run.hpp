@@ -38,13 +38,12 @@ struct PassJudging {
   std::vector<std::vector<double>> samples_by_pass;  // rank 0: SteinRisk::at_samples of each pass
   int passes = 0;
   // The run that Stein's estimate decides (every rank), as one process's stein_run: rms_by_pass
-  // then holds the estimates (the input's noise first, set by the caller), a pass is kept below `to_beat` (the
-  // lowest estimate of the settings before), and the judge scores only the passes kept
-  // (best_judged_deg, the last of them). `probed`: the probing run's (its samples on rank 0).
+  // then holds the estimates (the input's noise first, set by the caller) and a pass is kept
+  // below `to_beat` (the lowest estimate of the settings before). `probed`: the probing run's
+  // (its samples on rank 0).
   bool stein = false;
   const PassJudging* probed = nullptr;
   double to_beat = 0;
-  double best_judged_deg = 0;
 };
 
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's
@@ -53,6 +52,11 @@ struct PassJudging {
 DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                    const FilterParams& params, const FilterOptions& options,
                                    const ProgressCallback& progress, PassJudging* judging);
+
+// Every rank's rows on rank 0, in rank order: the cloud one process would read (the
+// concatenation of the ranks' inputs), so that rank 0 computes what one process computes; empty
+// on the other ranks. Refuses (on every rank) more than 2^31 values, an MPI count. Collective.
+std::vector<double> gather_rows(MPI_Comm comm, const std::vector<double>& mine);
 
 class Agreement;
 // One process's estimate and rule: every rank's points gathered on rank 0 in rank order (the
