@@ -67,9 +67,7 @@ pnf::FilterResult run_engine(FilterBackend& backend, const pnf::FilterOptions& o
   return result;
 }
 
-pnf::PointCloud noisy_sphere(int n, unsigned seed) {
-  return jittered_sphere(n, 5.0, seed, 20);
-}
+pnf::PointCloud noisy_sphere(int n, unsigned seed) { return jittered_sphere(n, 5.0, seed, 20); }
 
 TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
   pnf::PointCloud ball = noisy_sphere(3000, 1);
@@ -105,6 +103,28 @@ TEST(FilterEngine, ChunkedPassesRefillOneChunkFewerAfterTheFirst) {
   EXPECT_EQ(counting.refusals, 0);
   EXPECT_EQ(counting.fills, n + (params.iterations - 1) * (n - 1));
   EXPECT_EQ(chunked.normals, whole.normals);
+}
+
+TEST(FilterEngine, ATwinRunFillsTheListsOnceOrAsTheChunksAsk) {
+  // One chunk: the lists stay on the device for both sets' passes. Chunked: each set's passes
+  // refill their chunks as a run alone does.
+  pnf::PointCloud ball = noisy_sphere(3000, 3);
+  pnf::FilterOptions options;
+  options.device = pnf::Device::reference();
+  pnf::FilterParams params;
+  params.iterations = 3;
+  const pnf::detail::TwinRun twin{pnf::Vec3ArrayView(ball.normals), nullptr};
+  std::vector<pnf::Vec3> out(ball.size());
+  RefusingBackend whole(std::size_t(1) << 40);  // refuses nothing
+  const pnf::FilterSummary one = pnf::detail::run_filter(whole, options, ball, out, params, {}, nullptr, &twin);
+  ASSERT_EQ(one.chunks, 1u);
+  EXPECT_EQ(whole.fills, 1);
+  options.memory.budget_bytes = one.neighbour_pairs * 4 / 3;  // about a third of the lists at a time
+  RefusingBackend chunked(std::size_t(1) << 40);
+  const pnf::FilterSummary three = pnf::detail::run_filter(chunked, options, ball, out, params, {}, nullptr, &twin);
+  const int n = int(three.chunks);
+  ASSERT_GE(n, 3);
+  EXPECT_EQ(chunked.fills, 2 * (n + (params.iterations - 1) * (n - 1)));
 }
 
 TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {

@@ -1,11 +1,15 @@
 // NormalFilter::run_observed (pnf/normal_filter.hpp): the observer sees each pass's normals in the
 // cloud's row order, and ending the passes there leaves that pass's result, bit for bit as a
-// plain run of that many passes gives it.
+// plain run of that many passes gives it. run_observed_after_twin: two sets of normals over one
+// build of the lists, each as its own run gives it.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
 #include <vector>
 
 #include "pnf/angle.hpp"
+#include "pnf/error.hpp"
 #include "pnf/normal_filter.hpp"
 #include "test_backends.hpp"
 #include "test_clouds.hpp"
@@ -29,13 +33,12 @@ TEST_P(RunObservedTest, ObserverSeesEachPassAndCanEndThePasses) {
   params.iterations = 5;
   std::vector<std::vector<double>> seen;
   std::vector<Vec3> out(ball.size());
-  const pnf::FilterSummary summary = filter->run_observed(
-      pnf::CloudView(ball), pnf::MutableVec3ArrayView(out), params,
-      [&](int pass, const std::vector<double>& normals) {
-        EXPECT_EQ(pass, int(seen.size()) + 1);
-        seen.push_back(normals);
-        return pass < 2;  // end after the second pass
-      });
+  const pnf::FilterSummary summary = filter->run_observed(pnf::CloudView(ball), pnf::MutableVec3ArrayView(out), params,
+                                                          [&](int pass, const std::vector<double>& normals) {
+                                                            EXPECT_EQ(pass, int(seen.size()) + 1);
+                                                            seen.push_back(normals);
+                                                            return pass < 2;  // end after the second pass
+                                                          });
   EXPECT_EQ(summary.passes_run, 2);
   ASSERT_EQ(seen.size(), 2u);
   // Plain runs of one and two passes, in row order: normals_out is re-normalised in double at the
@@ -50,6 +53,87 @@ TEST_P(RunObservedTest, ObserverSeesEachPassAndCanEndThePasses) {
       ASSERT_LT(pnf::angle_degrees(n, plain[i]), 1e-12) << passes << " " << i;
     }
     if (passes == 2) EXPECT_EQ(out, plain);
+  }
+}
+
+// The twin's normals: the cloud's, each turned by a few degrees in its own direction.
+std::vector<Vec3> tilted(const std::vector<Vec3>& normals) {
+  std::vector<Vec3> out(normals.size());
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const double t = double(i);
+    out[i] = {normals[i][0] + 0.1 * std::sin(t), normals[i][1] + 0.1 * std::cos(3 * t),
+              normals[i][2] + 0.1 * std::sin(7 * t)};
+  }
+  return out;
+}
+
+// Each pass's normals a run_observed of `params` on `cloud` shows, ended after `passes`.
+std::vector<std::vector<double>> observed_alone(NormalFilter& filter, const pnf::CloudView& cloud,
+                                                const FilterParams& params, int passes) {
+  std::vector<std::vector<double>> seen;
+  std::vector<Vec3> out(cloud.size());
+  filter.run_observed(cloud, pnf::MutableVec3ArrayView(out), params, [&](int pass, const std::vector<double>& n) {
+    seen.push_back(n);
+    return pass < passes;
+  });
+  return seen;
+}
+
+// The twin run shares the lists with the cloud's run; each set's passes are the bits its own run
+// gives (the positions are distinct, so the twin's order is its own run's too), whether the lists
+// stay on the device (one chunk) or are refilled chunk by chunk. The twin may end its passes
+// early without ending the cloud's.
+void expect_twin_as_two_runs(NormalFilter& filter) {
+  const PointCloud ball = sphere(3000, 2.0, 31);
+  const std::vector<Vec3> twin = tilted(ball.normals);
+  FilterParams params;
+  params.iterations = 3;
+  std::vector<std::vector<double>> seen_twin, seen;
+  std::vector<Vec3> out(ball.size());
+  const pnf::FilterSummary summary = filter.run_observed_after_twin(
+      pnf::CloudView(ball), twin,
+      [&](int pass, const std::vector<double>& n) {
+        seen_twin.push_back(n);
+        return pass < 2;
+      },
+      pnf::MutableVec3ArrayView(out), params,
+      [&](int, const std::vector<double>& n) {
+        seen.push_back(n);
+        return true;
+      });
+  EXPECT_EQ(summary.passes_run, 3);
+  EXPECT_EQ(seen_twin, observed_alone(filter, pnf::CloudView(ball.positions, twin), params, 2));
+  EXPECT_EQ(seen, observed_alone(filter, pnf::CloudView(ball), params, 3));
+  EXPECT_EQ(out, filter.run(ball, params).normals);
+}
+
+TEST_P(RunObservedTest, TwinRunGivesEachSetTheBitsOfItsOwnRun) {
+  NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
+  PNF_SKIP_IF_NULL(filter);
+  expect_twin_as_two_runs(*filter);
+}
+
+TEST(RunObserved, TwinRunOverChunkedListsGivesEachSetTheBitsOfItsOwnRun) {
+  pnf::FilterOptions options{pnf::Device::reference()};
+  options.memory.budget_bytes = 200 * 1024;  // a tenth or so of this cloud's lists
+  NormalFilter chunked(options);
+  expect_twin_as_two_runs(chunked);
+}
+
+TEST(RunObserved, TwinWithAZeroNormalIsRefusedNamingIt) {
+  const PointCloud ball = sphere(500, 2.0, 31);
+  std::vector<Vec3> twin = ball.normals;
+  twin[17] = {0, 0, 0};
+  std::vector<Vec3> out(ball.size());
+  try {
+    pnf::test::reference_filter()->run_observed_after_twin(pnf::CloudView(ball), twin, {},
+                                                           pnf::MutableVec3ArrayView(out), {}, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    EXPECT_EQ(e.code(), pnf::ErrorCode::invalid_input);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("the twin run"), std::string::npos) << what;
+    EXPECT_NE(what.find("17"), std::string::npos) << what;
   }
 }
 

@@ -28,7 +28,8 @@ class FilterBackend {
   virtual std::string description() const = 0;
   // Largest neighbour index array (bytes) one chunk may have.
   virtual std::size_t max_list_bytes() const = 0;
-  // positions and normals: N by 3, row-major, re-centred, in curve order, unit normals.
+  // positions and normals: N by 3, row-major, re-centred, in curve order, unit normals. The
+  // lists loaded before stay (a twin run's passes and the cloud's share them).
   virtual void upload_cloud(const std::vector<double>& positions, const std::vector<double>& normals) = 0;
   // Blocks until the device has finished all work queued so far.
   virtual void wait() = 0;

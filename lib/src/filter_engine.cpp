@@ -138,8 +138,20 @@ class Passes {
   Passes(FilterBackend& backend, const FilterOptions& options, const PreparedCloud& prepared, ListCounts& lists,
          const FilterParams& params, const ProgressCallback& progress, const DistributedPart* part,
          FilterSummary& summary)
-      : backend_(backend), options_(options), prepared_(prepared), lists_(lists), params_(params),
-        progress_(progress), part_(part), summary_(summary) {}
+      : backend_(backend),
+        options_(options),
+        prepared_(prepared),
+        lists_(lists),
+        params_(params),
+        progress_(progress),
+        part_(part),
+        summary_(summary) {}
+
+  // The lists of one whole chunk are on the backend already, from a run over the same prepared
+  // cloud and lists (run_filter's twin): the passes use them as they are.
+  void reuse_whole_lists() { reuse_whole_lists_ = true; }
+  // Whether the run left the lists of one whole chunk on the backend.
+  bool whole_lists_loaded() const { return whole_lists_loaded_; }
 
   std::vector<double> run() {
     // The kept candidates count against the memory budget (they live as long as the lists).
@@ -156,8 +168,7 @@ class Passes {
       } catch (const DeviceMemoryError& e) {
         // The other processes of a distributed run have moved on: passes cannot start over.
         if (part_ && summary_.passes_run > 0) {
-          throw Error(ErrorCode::device, std::string(e.what()) + " after pass " +
-                                             std::to_string(summary_.passes_run) +
+          throw Error(ErrorCode::device, std::string(e.what()) + " after pass " + std::to_string(summary_.passes_run) +
                                              " of a distributed run, which cannot start its passes over");
         }
         // A smaller chunk may fit where this one did not; one point's list is the floor.
@@ -165,6 +176,7 @@ class Passes {
           throw Error(ErrorCode::device, std::string(e.what()) + "; even one point's neighbour list does not fit");
         }
         budget = largest_ / 2;
+        reuse_whole_lists_ = false;
         ++summary_.allocation_retries;
       }
     }
@@ -182,10 +194,9 @@ class Passes {
     ListStorage storage = backend_.begin_lists(chunk.first, chunk.count, pairs);
     summary_.upload_seconds += seconds_since(t);
     t = Clock::now();
-    prepared_.search->fill_lists(prepared_.plan.reach, chunk.first, chunk.count, lists_.counts, storage.offsets,
-                                 storage.indices,
-                                 list_poll(progress_, passes_done, params_.iterations, stage_start, from, share),
-                                 &lists_.candidates);
+    prepared_.search->fill_lists(
+        prepared_.plan.reach, chunk.first, chunk.count, lists_.counts, storage.offsets, storage.indices,
+        list_poll(progress_, passes_done, params_.iterations, stage_start, from, share), &lists_.candidates);
     if (!prepared_.curve_rank.empty()) {
       sort_lists_along_curve(storage, chunk.count, prepared_.owned, prepared_.curve_rank);
     }
@@ -256,11 +267,14 @@ class Passes {
     summary_.upload_seconds += seconds_since(start);
 
     const bool whole = chunks.size() == 1;
-    if (whole) {  // built once, kept on the device for every pass
+    if (whole && reuse_whole_lists_) {
+      largest_ = csr_bytes(owned, summary_.neighbour_pairs);
+    } else if (whole) {  // built once, kept on the device for every pass
       load_chunk(chunks[0], 0, lists_.start, kCountShare, 1 - kCountShare);
       lists_done(progress_, 0, params_.iterations, lists_.start);
       lists_.candidates = BlockCandidates{};  // built once: no refill will need them
     }
+    whole_lists_loaded_ = whole;
 
     std::vector<double> previous = prepared_.normals;  // for the stop rule
     summary_.mean_change_deg.clear();
@@ -298,16 +312,23 @@ class Passes {
   const ProgressCallback& progress_;
   const DistributedPart* part_;
   FilterSummary& summary_;
-  std::size_t largest_ = 0;  // bytes of the largest chunk's lists, to halve on a refusal
+  bool reuse_whole_lists_ = false;
+  bool whole_lists_loaded_ = false;
+  std::size_t largest_ = 0;                     // bytes of the largest chunk's lists, to halve on a refusal
   std::size_t slice_pairs_ = kFirstSlicePairs;  // run_slices' next slice
   std::vector<double> halo_;
 };
 
 // Checks what run_filter is given before any work.
 void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
-               const DistributedPart* part) {
+               const DistributedPart* part, const TwinRun* twin) {
   params.validate();
   check_cloud(cloud, CloudRequirements::filter());
+  if (twin) {
+    CloudRequirements requirements = CloudRequirements::filter();
+    requirements.caller = "the twin run";
+    check_cloud(CloudView(cloud.positions, twin->normals, cloud.radii), requirements);
+  }
   const std::size_t owned = part ? part->owned : cloud.size();
   if (owned > cloud.size()) {
     throw Error(ErrorCode::invalid_argument,
@@ -323,6 +344,17 @@ void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const F
 }
 
 }  // namespace
+
+std::vector<double> unit_rows_in_order(const Vec3ArrayView& normals, const std::vector<std::uint32_t>& order) {
+  std::vector<double> rows(3 * order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const Vec3 normal = normals.at(order[k]);
+    // Normalised here, in double: the only copy of the normals the engine makes.
+    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    for (int c = 0; c < 3; ++c) rows[3 * k + c] = normal[c] / length;
+  }
+  return rows;
+}
 
 PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, std::size_t owned,
                             const DistributedPart* part) {
@@ -342,17 +374,10 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
   const Vec3 centre = whole_frame ? part->whole_centre : bounding_box(cloud.positions).centre();
   const std::size_t n = cloud.size();
   std::vector<double> positions(3 * n);
-  out.normals.resize(3 * n);
   for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = out.order[k];
-    const Vec3 normal = cloud.normals.at(i);
-    // Normalised here, in double: the only copy of the normals the engine makes.
-    const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-    for (int c = 0; c < 3; ++c) {
-      positions[3 * k + c] = cloud.positions.get(i, c) - centre[c];
-      out.normals[3 * k + c] = normal[c] / length;
-    }
+    for (int c = 0; c < 3; ++c) positions[3 * k + c] = cloud.positions.get(out.order[k], c) - centre[c];
   }
+  out.normals = unit_rows_in_order(cloud.normals, out.order);
   out.search = std::make_unique<SpatialIndex>(std::move(positions));  // no copy: searched in place
   MeanRadius radius;
   if (params.units == Units::radius) {
@@ -365,8 +390,8 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
 
 FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
                          MutableVec3ArrayView normals_out, const FilterParams& params, const ProgressCallback& progress,
-                         const DistributedPart* part) {
-  check_run(cloud, normals_out, params, part);
+                         const DistributedPart* part, const TwinRun* twin) {
+  check_run(cloud, normals_out, params, part, twin);
   const std::size_t owned = part ? part->owned : cloud.size();
   FilterSummary summary;
   summary.points = owned;
@@ -383,7 +408,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   // Step 1, prepare; then the refusals, before any list is allocated, so that the memory and the
   // time are known first (docs/method.md, "Neighbour lists").
   const auto start = Clock::now();
-  const PreparedCloud prepared = prepare_cloud(cloud, params, owned, part);
+  PreparedCloud prepared = prepare_cloud(cloud, params, owned, part);
   summary.mean_radius = prepared.plan.radius.value;
   summary.radius_source = prepared.plan.radius.source;
   summary.sigma_f = prepared.plan.sigma_f;
@@ -401,7 +426,18 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   if (params.iterations == 0) {
     normals = prepared.normals;
   } else {
-    normals = Passes(backend, options, prepared, lists, params, progress, part, summary).run();
+    Passes passes(backend, options, prepared, lists, params, progress, part, summary);
+    if (twin) {
+      // The twin's passes first, on the same order and lists; the summary's list and upload
+      // times count both runs, its passes are the cloud's own.
+      std::vector<double> own = std::move(prepared.normals);
+      prepared.normals = unit_rows_in_order(twin->normals, prepared.order);
+      Passes twin_passes(backend, options, prepared, lists, params, progress, twin->part, summary);
+      twin_passes.run();
+      prepared.normals = std::move(own);
+      if (twin_passes.whole_lists_loaded()) passes.reuse_whole_lists();
+    }
+    normals = passes.run();
     summary.device_bytes = backend.device_bytes();
   }
   for (std::size_t k = 0; k < owned; ++k) {

@@ -53,15 +53,18 @@ struct PreparedCloud {
   // order[k] = the view index of point k: along the Morton curve, a distributed part's owned
   // points first (each group in curve order).
   std::vector<std::uint32_t> order;
-  std::vector<double> normals;            // N by 3, unit (normalised in double), in that order
-  std::unique_ptr<SpatialIndex> search;   // over the positions in that order, re-centred on the
-                                          // bounding box's centre in double (docs/method.md)
-  std::size_t owned = 0;                  // the points filtered: [0, owned) in that order
+  std::vector<double> normals;           // N by 3, unit (normalised in double), in that order
+  std::unique_ptr<SpatialIndex> search;  // over the positions in that order, re-centred on the
+                                         // bounding box's centre in double (docs/method.md)
+  std::size_t owned = 0;                 // the points filtered: [0, owned) in that order
   FilterPlan plan;
   // A part's points' ranks along the curve before the owned points were put first (empty when
   // nothing moved): the order its lists are sorted in (sort_lists_along_curve).
   std::vector<std::uint32_t> curve_rank;
 };
+
+// The rows of `normals` in `order` (order[k]: the row of the k-th), each made unit in double.
+std::vector<double> unit_rows_in_order(const Vec3ArrayView& normals, const std::vector<std::uint32_t>& order);
 
 // Orders and re-centres a non-empty, checked cloud, indexes it and makes the plan for `params`
 // (validated), resolving the mean radius as FilterParams says (given, the radii's mean, or the
@@ -78,13 +81,23 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
 constexpr double kChangeQuantaPerDegree = 65536.0;
 double change_quanta(const std::vector<double>& a, const std::vector<double>& b, std::size_t count);
 
+// A run of the same passes from other normals on the same positions, before the cloud's own
+// (NormalFilter::run_observed_after_twin): it shares the cloud's order, index and neighbour
+// lists, built once. Its normals are told to its part's observer (a whole part: one process) and
+// then dropped.
+struct TwinRun {
+  Vec3ArrayView normals;  // N rows, checked as the cloud's normals are
+  const DistributedPart* part = nullptr;
+};
+
 // NormalFilter::run on `backend` (see normal_filter.hpp for the contract). When the backend
 // reports that the device refused an allocation (DeviceMemoryError), the run starts over with
 // chunks half the size of the one refused, down to a single point's list. With `part`, only the
 // owned points are filtered and written (normals_out has `owned` rows), and the mean radius must
 // be given (params.mean_radius, or absolute units): one process cannot estimate it for all.
+// With `twin`, its passes run first (none when params.iterations is 0).
 FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, const CloudView& cloud,
-                         MutableVec3ArrayView normals_out, const FilterParams& params,
-                         const ProgressCallback& progress, const DistributedPart* part = nullptr);
+                         MutableVec3ArrayView normals_out, const FilterParams& params, const ProgressCallback& progress,
+                         const DistributedPart* part = nullptr, const TwinRun* twin = nullptr);
 
 }  // namespace pnf::detail

@@ -47,22 +47,46 @@ struct NormalFilter::Impl {
   std::unique_ptr<detail::FilterBackend> backend;
 };
 
+namespace {
+
+// A distributed part that owns every point: its halo exchange, called after each pass with the
+// new normals and with no halo to fill, is the observer.
+class ObservedPart {
+ public:
+  ObservedPart(std::size_t points, const NormalFilter::PassObserver& observe) {
+    part_.owned = points;
+    part_.exchange_halo = [this, &observe](const std::vector<double>& normals, std::vector<double>&) {
+      go_on_ = !observe || observe(++pass_, normals);
+    };
+    part_.ends_passes = [this] { return !go_on_; };
+    part_.one_process = true;
+  }
+  ObservedPart(const ObservedPart&) = delete;
+  ObservedPart& operator=(const ObservedPart&) = delete;
+  const detail::DistributedPart* get() const { return &part_; }
+
+ private:
+  detail::DistributedPart part_;
+  int pass_ = 0;
+  bool go_on_ = true;
+};
+
+}  // namespace
 
 FilterSummary NormalFilter::run_observed(const CloudView& cloud, MutableVec3ArrayView normals_out,
                                          const FilterParams& params, const PassObserver& observe,
                                          const ProgressCallback& progress) {
-  // A distributed part that owns every point: its halo exchange, called after each pass with the
-  // new normals and with no halo to fill, is the observer.
-  int pass = 0;
-  bool go_on = true;
-  detail::DistributedPart whole;
-  whole.owned = cloud.size();
-  whole.exchange_halo = [&](const std::vector<double>& normals, std::vector<double>&) {
-    go_on = !observe || observe(++pass, normals);
-  };
-  whole.ends_passes = [&] { return !go_on; };
-  whole.one_process = true;
-  return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, &whole);
+  const ObservedPart whole(cloud.size(), observe);
+  return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, whole.get());
+}
+
+FilterSummary NormalFilter::run_observed_after_twin(const CloudView& cloud, const Vec3ArrayView& twin_normals,
+                                                    const PassObserver& observe_twin, MutableVec3ArrayView normals_out,
+                                                    const FilterParams& params, const PassObserver& observe,
+                                                    const ProgressCallback& progress) {
+  const ObservedPart whole(cloud.size(), observe), twin_whole(cloud.size(), observe_twin);
+  const detail::TwinRun twin{twin_normals, twin_whole.get()};
+  return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, whole.get(), &twin);
 }
 
 NormalFilter::NormalFilter(const FilterOptions& options) : impl_(std::make_unique<Impl>()) {

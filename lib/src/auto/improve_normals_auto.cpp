@@ -29,10 +29,10 @@ bool is_setting(const FilterParams& a, const FilterParams& b) {
 
 // improve_normals_auto where Stein's estimate decides (detail::stein_decides): for each setting,
 // its passes from the probed input first (every pass of its budget, kept at the estimate's
-// samples), then from the input, each pass estimated as it ends; the passes end two past the
-// setting's lowest estimate, and the lowest of all settings is kept if the surface judge does not
-// score it above the input (a veto against a noise estimate gone wrong); the judge scores only
-// the pass kept. `input`: the input normals, unit.
+// samples), then from the input over the same neighbour lists (the twin run), each pass estimated as it ends; the
+// passes end two past the setting's lowest estimate, and the lowest of all settings is kept if the surface judge does
+// not score it above the input (a veto against a noise estimate gone wrong); the judge scores only the pass kept.
+// `input`: the input normals, unit.
 AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
                   const ProgressCallback& progress, const detail::SurfaceJudge& judge, const std::vector<double>& input,
                   AutoRun& run) {
@@ -40,7 +40,6 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
   const detail::SteinRisk risk(detail::stein_samples(cloud.positions), input,
                                run.choice.estimate.normal_noise_neighbours_deg);
   const std::vector<double> probed_input = risk.probed(input);
-  const CloudView probed(cloud.positions, Vec3ArrayView(probed_input.data(), cloud.size()), cloud.radii);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());  // each run's output (the observers copy what they keep)
   double best_risk = risk.input_risk_deg();
@@ -50,13 +49,10 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
     FilterParams params = candidates[c];
     params.iterations = detail::judged_pass_budget(params, run.choice);
     std::vector<std::vector<double>> probed_by_pass;
-    filter.run_observed(
-        probed, MutableVec3ArrayView(scratch), params,
-        [&](int, const std::vector<double>& normals) {
-          probed_by_pass.push_back(risk.at_samples(normals.data()));
-          return true;
-        },
-        progress);
+    auto after_probed_pass = [&](int, const std::vector<double>& normals) {
+      probed_by_pass.push_back(risk.at_samples(normals.data()));
+      return true;
+    };
     std::vector<double> risk_by_pass = {risk.input_risk_deg()};
     int best_pass_here = 0;
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
@@ -73,7 +69,8 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
              std::size_t(pass) < probed_by_pass.size();
     };
     const FilterSummary summary =
-        filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
+        filter.run_observed_after_twin(cloud, Vec3ArrayView(probed_input.data(), cloud.size()), after_probed_pass,
+                                       MutableVec3ArrayView(scratch), params, after_pass, progress);
     if (c == best_candidate) run.summary = summary;
     estimated += detail::judged_candidate(c, params, risk_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), risk_by_pass.begin() + 1, risk_by_pass.end());
