@@ -414,7 +414,8 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   summary.sigma_f = prepared.plan.sigma_f;
   summary.sigma_g = prepared.plan.sigma_g;
   const double pair_estimate = check_pair_limit(prepared, options, part);
-  check_time_limit(backend, prepared, options, pair_estimate, params.iterations, summary.device);
+  // A twin runs as many passes again.
+  check_time_limit(backend, prepared, options, pair_estimate, params.iterations * (twin ? 2 : 1), summary.device);
 
   // Step 2, the lists' counts.
   ListCounts lists = count_lists(prepared, params, progress, summary);
