@@ -349,7 +349,7 @@ std::vector<double> unit_rows_in_order(const Vec3ArrayView& normals, const std::
   std::vector<double> rows(3 * order.size());
   for (std::size_t k = 0; k < order.size(); ++k) {
     const Vec3 normal = normals.at(order[k]);
-    // Normalised here, in double: the only copy of the normals the engine makes.
+    // Normalised here, in double: the engine's one copy of each set of normals.
     const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     for (int c = 0; c < 3; ++c) rows[3 * k + c] = normal[c] / length;
   }
