@@ -71,8 +71,7 @@ pnf::PointCloud noisy_sphere(int n, unsigned seed) { return jittered_sphere(n, 5
 
 TEST(FilterEngine, RefusedAllocationLeadsToSmallerChunksWithTheSameResult) {
   pnf::PointCloud ball = noisy_sphere(3000, 1);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   auto whole_backend = pnf::detail::make_reference_backend(1);
   pnf::FilterResult whole = run_engine(*whole_backend, options, ball, {}, {});
   ASSERT_EQ(whole.summary.chunks, 1u);
@@ -89,8 +88,7 @@ TEST(FilterEngine, ChunkedPassesRefillOneChunkFewerAfterTheFirst) {
   // Passes alternate the chunks' order, so the chunk that ends a pass starts the next without
   // being filled again; the result is the whole run's all the same.
   pnf::PointCloud ball = noisy_sphere(3000, 3);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   pnf::FilterParams params;
   params.iterations = 5;
   auto whole_backend = pnf::detail::make_reference_backend(1);
@@ -109,8 +107,7 @@ TEST(FilterEngine, ATwinRunFillsTheListsOnceOrAsTheChunksAsk) {
   // One chunk: the lists stay on the device for both sets' passes. Chunked: each set's passes
   // refill their chunks as a run alone does.
   pnf::PointCloud ball = noisy_sphere(3000, 3);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   pnf::FilterParams params;
   params.iterations = 3;
   const pnf::detail::TwinRun twin{pnf::Vec3ArrayView(ball.normals), nullptr};
@@ -129,8 +126,7 @@ TEST(FilterEngine, ATwinRunFillsTheListsOnceOrAsTheChunksAsk) {
 
 TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {
   pnf::PointCloud ball = noisy_sphere(500, 2);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   RefusingBackend refusing(16);
   try {
     run_engine(refusing, options, ball, {}, {});
@@ -149,8 +145,7 @@ TEST(FilterEngine, EveryPointNeighbouringEveryOtherIsRefusedWithTheNumbers) {
   pnf::FilterParams params;
   params.units = pnf::Units::absolute;
   params.sigma_f = 100;
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   options.memory.max_neighbour_pairs = std::size_t(1) << 32;
   auto backend = pnf::detail::make_reference_backend(0);
   try {
@@ -171,8 +166,7 @@ TEST(FilterEngine, WorkPastTheTimeLimitIsRefusedFromAProbeWithTheNumbers) {
   pnf::FilterParams params;
   params.units = pnf::Units::absolute;
   params.sigma_f = 100;
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   auto backend = pnf::detail::make_reference_backend(0);
   const auto start = std::chrono::steady_clock::now();
   try {
@@ -228,8 +222,7 @@ TEST(FilterEngine, AllPointsOnALineGiveFiniteUnitNormalsOnTheirSide) {
     line.normals.push_back(jitter_normal({0, 0, 1}, 10, rng));
   }
   auto backend = pnf::detail::make_reference_backend(1);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   pnf::FilterResult r = run_engine(*backend, options, line, {}, {});
   for (std::size_t i = 0; i < line.size(); ++i) {
     EXPECT_NEAR(norm(r.normals[i]), 1.0, 1e-12) << i;
@@ -246,8 +239,7 @@ TEST(FilterEngine, ThousandsOfDuplicatesOfOnePointAreFine) {
     cloud.normals.push_back(jitter_normal({0, 0, 1}, 10, rng));
   }
   auto backend = pnf::detail::make_reference_backend(0);
-  pnf::FilterOptions options;
-  options.device = pnf::Device::reference();
+  pnf::FilterOptions options{pnf::Device::reference()};
   pnf::FilterResult r = run_engine(*backend, options, cloud, {}, {});
   EXPECT_EQ(r.summary.radius_source, pnf::RadiusSource::estimate);
   EXPECT_NEAR(r.summary.mean_radius, 1.0, 0.25) << "the estimate leaves the duplicates out";
