@@ -400,6 +400,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   if (cloud.size() == 0) {
     if (part) {
       check_idle_pair_limit(*part, options);
+      if (twin && twin->part) idle_passes(*twin->part, params, progress, summary);
       idle_passes(*part, params, progress, summary);
     }
     return summary;

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "agreement.hpp"
@@ -193,12 +195,39 @@ unsigned long long sum_over(MPI_Comm comm, unsigned long long value) {
   return value;
 }
 
+// The twin's normals of the points this rank owns, in `owned`'s order: moved to their owners as
+// the points were (the partition follows the positions alone), then matched by global id (ties
+// of the curve order may fall otherwise among points at one place). Collective.
+std::vector<double> owned_twin_rows(MPI_Comm comm, const CloudView& local, const Vec3ArrayView& twin_normals,
+                                    const detail::GlobalFrame& frame, const detail::OwnedPoints& owned,
+                                    std::size_t& moved) {
+  std::size_t twin_moved = 0;
+  const detail::OwnedPoints twin =
+      detail::distribute(comm, CloudView(local.positions, twin_normals), frame, twin_moved);
+  moved += twin_moved;
+  auto by_gid = [](const std::vector<std::uint64_t>& gids) {
+    std::vector<std::size_t> order(gids.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gids[a] < gids[b]; });
+    return order;
+  };
+  const std::vector<std::size_t> mine = by_gid(owned.gids), theirs = by_gid(twin.gids);
+  std::vector<double> rows(3 * owned.size());
+  for (std::size_t j = 0; j < mine.size(); ++j) {
+    if (j >= theirs.size() || owned.gids[mine[j]] != twin.gids[theirs[j]]) {
+      throw std::logic_error("the twin run's points went to other ranks than the run's");
+    }
+    for (int c = 0; c < 3; ++c) rows[3 * mine[j] + std::size_t(c)] = twin.normals[3 * theirs[j] + std::size_t(c)];
+  }
+  return rows;
+}
+
 }  // namespace
 
 DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView& local,
                                            MutableVec3ArrayView normals_out, const FilterParams& params,
                                            const FilterOptions& options, const ProgressCallback& progress,
-                                           PassJudging* judging) {
+                                           PassJudging* judging, const TwinJudging* twin) {
   detail::OwnComm own_comm(caller_comm);
   const MPI_Comm comm = own_comm.get();
   const detail::Agreement agree(comm);
@@ -223,6 +252,8 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   const detail::GlobalFrame frame = detail::global_frame(comm, local.positions);
   std::size_t moved = 0;
   detail::OwnedPoints owned = detail::distribute(comm, local, frame, moved);
+  std::vector<double> twin_normals;  // the view's rows: owned, then (below) the halo's
+  if (twin) agree.run([&] { twin_normals = owned_twin_rows(comm, local, twin->normals, frame, owned, moved); });
   summary.points = owned.total;
   summary.partition_seconds = seconds_since(t);
   if (owned.total == 0) return summary;  // as one process: an empty cloud, an empty result
@@ -272,6 +303,26 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   const std::size_t rows = n + plan.halo_points();
   const CloudView view(Vec3ArrayView(owned.positions.data(), rows), Vec3ArrayView(owned.normals.data(), rows));
   std::vector<double> new_normals(3 * n);
+  // The twin's part: its halo from their owners now and after each of its passes, each pass
+  // judged (probed) as one process's twin.
+  pnf::detail::DistributedPart twin_part = part;
+  std::unique_ptr<JudgedPasses> twin_judged;
+  if (twin) {
+    std::vector<double> halo;
+    plan.exchange(twin_normals, halo);
+    twin_normals.insert(twin_normals.end(), halo.begin(), halo.end());
+    const CloudView twin_view(view.positions, Vec3ArrayView(twin_normals.data(), rows));
+    agree.run([&] {
+      twin_judged = std::make_unique<JudgedPasses>(comm, *twin->judging, twin_view, owned.gids, n, owned.total);
+    });
+    twin_part.exchange_halo = [&](const std::vector<double>& owned_normals, std::vector<double>& halo_normals) {
+      agree.check();
+      plan.exchange(owned_normals, halo_normals);
+      twin_judged->after_pass(owned_normals);
+    };
+    twin_part.ends_passes = [&] { return twin_judged->enough(); };
+  }
+  const pnf::detail::TwinRun twin_run{Vec3ArrayView(twin_normals.data(), twin ? rows : 0), &twin_part};
   std::unique_ptr<JudgedPasses> judged;
   if (judging) {
     agree.run([&] { judged = std::make_unique<JudgedPasses>(comm, *judging, view, owned.gids, n, owned.total); });
@@ -284,7 +335,7 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   }
   agree.run([&] {
     summary.local = pnf::detail::run_filter(*backend, resolved, view, MutableVec3ArrayView(new_normals.data(), n),
-                                            part_params, progress, &part);
+                                            part_params, progress, &part, twin ? &twin_run : nullptr);
   });
   if (judged) new_normals = judged->best_normals();
   backend.reset();

@@ -48,7 +48,7 @@ std::vector<double> probed_rows(MPI_Comm comm, const detail::RootJudge& root, co
 }
 
 // One process's stein_run (lib/src/auto/improve_normals_auto.cpp) across the ranks: for each
-// setting, its passes from the probed input, then from the input with each pass estimated on
+// setting, its passes from the probed input (the twin), then from the input with each pass estimated on
 // rank 0 as it ends; the lowest estimate of all settings kept unless the judge scores it above
 // the input.
 void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out, const FilterOptions& options,
@@ -58,7 +58,6 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   const std::vector<FilterParams> candidates = pnf::detail::stein_candidates(run.choice);
   const double noise = run.choice.estimate.normal_noise_neighbours_deg;  // rank 0's SteinRisk has it too
   const std::vector<double> probed_input = probed_rows(comm, root, local);
-  const CloudView probed(local.positions, Vec3ArrayView(probed_input.data(), local.size()), local.radii);
   const std::vector<double> unit = pnf::detail::unit_rows(local.normals);
   std::vector<Vec3> input(local.size()), trial(local.size());
   for (std::size_t i = 0; i < local.size(); ++i) input[i] = {unit[3 * i], unit[3 * i + 1], unit[3 * i + 2]};
@@ -73,7 +72,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
     probing.root = rank == 0 ? &root : nullptr;
     probing.probing = true;
     probing.budget = params.iterations;
-    detail::improve_normals(comm, probed, MutableVec3ArrayView(trial), params, options, progress, &probing);
+    const detail::TwinJudging twin{Vec3ArrayView(probed_input.data(), local.size()), &probing};
     detail::PassJudging judging;
     judging.root = probing.root;
     judging.stein = true;
@@ -82,7 +81,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
     judging.to_beat = best_risk;
     judging.rms_by_pass = {noise};
     const DistributedSummary summary =
-        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging, &twin);
     estimated += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
     if (judging.best_pass > 0) {
       best.swap(trial);

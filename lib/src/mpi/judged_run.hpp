@@ -46,12 +46,22 @@ struct PassJudging {
   double to_beat = 0;
 };
 
+// The probed twin of a judged run, as one process's NormalFilter::run_observed_after_twin runs
+// it: the same points with other normals (`normals`: this rank's rows), whose passes run first
+// over the same partition, halo and neighbour lists, each told to `judging` (a probing one).
+struct TwinJudging {
+  Vec3ArrayView normals;
+  PassJudging* judging = nullptr;
+};
+
 // pnf::mpi::improve_normals; with `judging`, every pass is judged as one process's
 // improve_normals_auto judges it, the passes end as it ends them, and normals_out gets the best
-// pass's normals (the input's, normalised, when none beat them).
+// pass's normals (the input's, normalised, when none beat them); with `twin`, the twin's passes
+// first.
 DistributedSummary improve_normals(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView normals_out,
                                    const FilterParams& params, const FilterOptions& options,
-                                   const ProgressCallback& progress, PassJudging* judging);
+                                   const ProgressCallback& progress, PassJudging* judging,
+                                   const TwinJudging* twin = nullptr);
 
 // Every rank's rows on rank 0, in rank order: the cloud one process would read (the
 // concatenation of the ranks' inputs), so that rank 0 computes what one process computes; empty
