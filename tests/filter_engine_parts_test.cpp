@@ -164,3 +164,27 @@ TEST(StopRuleChange, PartsAddUpToTheWholeExactlyInAnyGrouping) {
 }
 
 }  // namespace
+
+namespace {
+
+// A part with no points still takes part in every pass's exchange, the twin's passes first, so
+// that the processes with points are not left waiting (a distributed twin run: --auto's Stein
+// route across ranks).
+TEST(FilterEngineParts, AnIdlePartTakesPartInTheTwinsPassesThenItsOwn) {
+  FilterParams params;
+  params.iterations = 3;
+  params.mean_radius = 0.1;  // a part must be given it
+  std::vector<char> calls;   // 't' for the twin's exchange, 'r' for the run's
+  detail::DistributedPart part, twin_part;
+  part.exchange_halo = [&](const std::vector<double>&, std::vector<double>&) { calls.push_back('r'); };
+  twin_part.exchange_halo = [&](const std::vector<double>&, std::vector<double>&) { calls.push_back('t'); };
+  const detail::TwinRun twin{Vec3ArrayView(), &twin_part};
+  auto backend = detail::make_reference_backend(1);
+  FilterOptions options{Device::reference()};
+  std::vector<Vec3> none;
+  detail::run_filter(*backend, options, CloudView(Vec3ArrayView(), Vec3ArrayView()), MutableVec3ArrayView(none), params,
+                     {}, &part, &twin);
+  EXPECT_EQ(std::string(calls.begin(), calls.end()), "tttrrr");
+}
+
+}  // namespace
