@@ -16,6 +16,11 @@ namespace {
 // freedom of the per-axis variance: (m - 3) of the total.
 constexpr int kFieldCoefficients = 3;
 
+// A sample whose gradient's own noise takes out more than half the noise from its residuals
+// (the position noise wide against its neighbours' spread along the surface) would have its
+// estimate more than doubled by the division: too uncertain, left out.
+constexpr double kMinNoiseLeft = 0.5;
+
 // The median of a chi-square of k degrees of freedom over its mean, 1 - 2/(9k) cubed
 // (Wilson-Hilferty; within 0.1% from k = 10).
 double chi_square_median_per_mean(double k) { return std::pow(1 - 2 / (9 * k), 3); }
@@ -53,7 +58,13 @@ double sample_variance(const std::vector<double>& centred, const CloudView& clou
   const Eigen::MatrixXd field = qr.solve(Eigen::MatrixXd(ys));  // 3 x 3: offset, then the gradient along a, b
   const double residual = (ys - xs * field).squaredNorm() / double(rows - kFieldCoefficients);
   const double gradient = field.bottomRows(2).squaredNorm();
-  return residual - gradient * position_noise * position_noise;
+  // The fitted gradient carries the noise too: its squared norm averages the true one plus the
+  // noise variance times the trace of (X^T X)^-1 over the gradient's terms, so the correction
+  // above takes out that much noise as well; divided by what it leaves.
+  const Eigen::Matrix<double, kFieldCoefficients, kFieldCoefficients> inverse = (xs.transpose() * xs).inverse();
+  const double left = 1 - (inverse(1, 1) + inverse(2, 2)) * position_noise * position_noise;
+  if (!(left > kMinNoiseLeft)) return NAN;
+  return (residual - gradient * position_noise * position_noise) / left;
 }
 
 }  // namespace
