@@ -40,8 +40,8 @@ struct DataEstimate {
   // position along the surface, the residuals' variance less what the position noise moves the
   // true normals by; the median, for Gaussian errors. Independent of the positions' fits, so it
   // is the errors' own size where they are independent from point to point (a scanner's, a
-  // mesh's); errors shared by neighbours (PCA's) read low, and thick position noise on a curved
-  // surface makes it err low too. What --auto's Stein risk estimate takes as the input's noise
+  // mesh's); errors shared by neighbours (PCA's) read low, and position noise several spacings
+  // wide makes it read 0. What --auto's Stein risk estimate takes as the input's noise
   // (docs/auto.md). -1 without normals.
   double normal_noise_neighbours_deg = -1;
   // The neighbourhood the fits used: number of nearest points, and the radius (model units)

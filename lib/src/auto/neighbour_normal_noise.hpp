@@ -16,11 +16,12 @@ struct SampleNeighbourhoods;
 // with the sample's) are fitted as a linear function of the position in the sample's tangent
 // plane; the residuals' variance per degree of freedom is the noise plus what the true normals
 // vary by over the position noise (a point displaced along the surface by its noise carries the
-// normal of where it came from: the fitted gradient times the noise, taken out). The median over
-// the samples, for a Gaussian. Errors correlated between neighbours (PCA's) read low; where the
-// position noise is thick against the surface's curvature the correction may take out more
-// than the true normals vary by, so the estimate errs low there too, not high. -1 without
-// normals or without a sample that could be fitted. `nearest`: each sample's nearest points,
+// normal of where it came from: the fitted gradient times the noise, taken out, and what that
+// takes out of the noise itself through the gradient's own noise divided back; samples where
+// that leaves under half are left out). The median over the samples, for a Gaussian. Errors
+// correlated between neighbours (PCA's) read low; where the position noise is several spacings
+// wide nearly every sample is left out and the rest read the surface's variation as no noise
+// (0). -1 without normals or without a sample that could be fitted. `nearest`: each sample's nearest points,
 // nearest first (more than kNoiseNeighbours); `position_noise`: per axis, model units.
 double neighbour_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
                                   const SampleNeighbourhoods& nearest, double position_noise);
