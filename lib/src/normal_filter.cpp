@@ -76,7 +76,7 @@ class ObservedPart {
 FilterSummary NormalFilter::run_observed(const CloudView& cloud, MutableVec3ArrayView normals_out,
                                          const FilterParams& params, const PassObserver& observe,
                                          const ProgressCallback& progress) {
-  const ObservedPart whole(cloud.size(), observe);
+  ObservedPart whole(cloud.size(), observe);  // not const: its observer counts the passes
   return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, whole.get());
 }
 
@@ -84,7 +84,7 @@ FilterSummary NormalFilter::run_observed_after_twin(const CloudView& cloud, cons
                                                     const PassObserver& observe_twin, MutableVec3ArrayView normals_out,
                                                     const FilterParams& params, const PassObserver& observe,
                                                     const ProgressCallback& progress) {
-  const ObservedPart whole(cloud.size(), observe), twin_whole(cloud.size(), observe_twin);
+  ObservedPart whole(cloud.size(), observe), twin_whole(cloud.size(), observe_twin);
   const detail::TwinRun twin{twin_normals, twin_whole.get()};
   return detail::run_filter(*impl_->backend, impl_->options, cloud, normals_out, params, progress, whole.get(), &twin);
 }
