@@ -345,10 +345,11 @@ void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const F
 
 }  // namespace
 
-std::vector<double> unit_rows_in_order(const Vec3ArrayView& normals, const std::vector<std::uint32_t>& order) {
-  std::vector<double> rows(3 * order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const Vec3 normal = normals.at(order[k]);
+std::vector<double> unit_rows(const Vec3ArrayView& normals, const std::vector<std::uint32_t>* order) {
+  const std::size_t n = order ? order->size() : normals.count;
+  std::vector<double> rows(3 * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3 normal = normals.at(order ? (*order)[k] : k);
     // Normalised here, in double: the engine's one copy of each set of normals.
     const double length = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
     for (int c = 0; c < 3; ++c) rows[3 * k + c] = normal[c] / length;
@@ -377,7 +378,7 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
   for (std::size_t k = 0; k < n; ++k) {
     for (int c = 0; c < 3; ++c) positions[3 * k + c] = cloud.positions.get(out.order[k], c) - centre[c];
   }
-  out.normals = unit_rows_in_order(cloud.normals, out.order);
+  out.normals = unit_rows(cloud.normals, &out.order);
   out.search = std::make_unique<SpatialIndex>(std::move(positions));  // no copy: searched in place
   MeanRadius radius;
   if (params.units == Units::radius) {
@@ -433,7 +434,7 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
       // The twin's passes first, on the same order and lists; the summary's list and upload
       // times count both runs, its passes are the cloud's own.
       std::vector<double> own = std::move(prepared.normals);
-      prepared.normals = unit_rows_in_order(twin->normals, prepared.order);
+      prepared.normals = unit_rows(twin->normals, &prepared.order);
       Passes twin_passes(backend, options, prepared, lists, params, progress, twin->part, summary);
       twin_passes.run();
       prepared.normals = std::move(own);

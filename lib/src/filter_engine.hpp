@@ -63,8 +63,11 @@ struct PreparedCloud {
   std::vector<std::uint32_t> curve_rank;
 };
 
-// The rows of `normals` in `order` (order[k]: the row of the k-th), each made unit in double.
-std::vector<double> unit_rows_in_order(const Vec3ArrayView& normals, const std::vector<std::uint32_t>& order);
+// The rows of `normals`, in `order` where given (order[k]: the row of the k-th), each divided by
+// its length in double: the one normalisation of the engine's copies, of the input the judge and
+// Stein's estimate read, and of the rows a run that keeps its input returns. Zero rows must be
+// refused before (check_cloud).
+std::vector<double> unit_rows(const Vec3ArrayView& normals, const std::vector<std::uint32_t>* order = nullptr);
 
 // Orders and re-centres a non-empty, checked cloud, indexes it and makes the plan for `params`
 // (validated), resolving the mean radius as FilterParams says (given, the radii's mean, or the

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cloud_checks.hpp"
+#include "filter_engine.hpp"
 #include "judged_passes.hpp"
 #include "pnf/error.hpp"
 #include "pnf/improve_normals_auto.hpp"
@@ -90,17 +91,6 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
 }
 
 }  // namespace
-
-// A zero normal is refused before (improve_normals_auto checks the cloud as the filter does).
-std::vector<double> detail::unit_rows(const Vec3ArrayView& normals) {
-  std::vector<double> rows(3 * normals.count);
-  for (std::size_t i = 0; i < normals.count; ++i) {
-    const Vec3 n = normals.at(i);
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int c = 0; c < 3; ++c) rows[3 * i + c] = n[c] / length;
-  }
-  return rows;
-}
 
 std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
   std::vector<FilterParams> candidates = {choice.params};

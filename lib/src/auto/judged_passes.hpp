@@ -84,10 +84,6 @@ std::vector<FilterParams> stein_candidates(const AutoChoice& choice);
 // PCA-16 normals: judged better, truly 0.5% worse than its input).
 std::vector<FilterParams> judged_candidates(const AutoChoice& choice);
 
-// The rows of `normals`, each divided by its length (in double): the input normals as the judge
-// scores them and as a run that keeps them returns them.
-std::vector<double> unit_rows(const Vec3ArrayView& normals);
-
 // The judged RMS (degrees) a pass must stay under to be kept instead of the input, given the
 // input's judged RMS and the judge's own error e (surface_judge.hpp): sqrt(input^2 - e^2) - e.
 // The judge's fits err by about e; an input whose errors are independent of the positions reads

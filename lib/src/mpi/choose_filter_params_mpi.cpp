@@ -5,6 +5,7 @@
 
 #include "agreement.hpp"
 #include "auto/judged_passes.hpp"
+#include "filter_engine.hpp"
 #include "auto/surface_judge.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"

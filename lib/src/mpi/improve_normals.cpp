@@ -37,12 +37,8 @@ class JudgedPasses {
                const std::vector<std::uint64_t>& gids, std::size_t owned, std::size_t total)
       : comm_(comm), judging_(judging), owned_(owned), total_(total) {
     MPI_Comm_rank(comm_, &rank_);
-    best_.resize(3 * owned);
-    for (std::size_t i = 0; i < owned; ++i) {
-      const Vec3 v = view.normals.at(i);
-      const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      for (int c = 0; c < 3; ++c) best_[3 * i + c] = v[c] / length;
-    }
+    best_ = pnf::detail::unit_rows(view.normals);
+    best_.resize(3 * owned);  // the owned rows come first
     gather_counts(gids);
     if (judging_.probing) return;
     if (judging_.stein) {  // rms_by_pass holds the input's estimate

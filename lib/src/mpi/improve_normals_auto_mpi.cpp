@@ -6,6 +6,7 @@
 
 #include "agreement.hpp"
 #include "auto/judged_passes.hpp"
+#include "filter_engine.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
 #include "pnf/error.hpp"
