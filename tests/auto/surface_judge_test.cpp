@@ -104,6 +104,32 @@ TEST(SurfaceJudge, ScoresNoisyPositionsWithTheWholeNeighbourhood) {
   EXPECT_EQ(judge.scored(), 257);
 }
 
+// choose_scale keeps the input's sums at the scale it chose, so that the input is fitted once:
+// they are those of fitting it again there, to the bit; a change of scale drops them.
+TEST(SurfaceJudge, KeepsTheInputsSumsAtTheScaleChosen) {
+  PointCloud plane = jittered_grid(100, 0.01, 0.3, 8);
+  const std::vector<double> input = xyz_rows(tilted(plane.normals, 5, 3));
+  for (int quarter = 0; quarter < 2; ++quarter) {
+    // The ripples' detail makes the judge choose the quarter; the flat plane, the whole.
+    if (quarter) {
+      for (Vec3& p : plane.positions) p[2] = 0.01 * std::sin(2 * kPi / 0.4 * p[0]) * std::sin(2 * kPi / 0.4 * p[1]);
+    }
+    detail::SurfaceJudge judge = judge_of(plane.positions, 257, 0.15 * 0.01);
+    judge.choose_scale(input.data());
+    ASSERT_EQ(judge.scored(), quarter ? 64 : 257);
+    const detail::SurfaceJudge::Sums kept = judge.input_sums(nullptr);  // not read: the kept sums answer
+    const detail::SurfaceJudge::Sums fitted = judge.sums(input.data());
+    EXPECT_EQ(kept.samples, judge.size());
+    EXPECT_EQ(kept.squared, fitted.squared);
+    EXPECT_EQ(kept.own_error_squared(), fitted.own_error_squared());
+    EXPECT_EQ(judge.input_rms_deg(nullptr), judge.rms_deg(input.data()));
+    EXPECT_EQ(kept.own_error_deg(), judge.own_error_deg(input.data()));
+    judge.score_with(quarter ? 257 : 64);
+    EXPECT_EQ(judge.input_sums(input.data()).squared, judge.sums(input.data()).squared);
+    EXPECT_NE(judge.input_sums(input.data()).squared, kept.squared);
+  }
+}
+
 // The quarter may score only where the positions are as clean as the fits' floor (twice the noise
 // under 0.15 spacings): there its fits hold no noise that filtered normals could share.
 TEST(SurfaceJudge, QuarterOnlyOnCleanPositions) {

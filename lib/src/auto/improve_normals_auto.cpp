@@ -76,7 +76,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
     estimated += detail::judged_candidate(c, params, risk_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), risk_by_pass.begin() + 1, risk_by_pass.end());
   }
-  const double input_judged = judge.rms_deg(input.data());
+  const double input_judged = judge.input_rms_deg(input.data());
   const double best_judged = run.passes_kept > 0 ? judge.rms_deg(best.data()) : 0.0;
   if (best_judged > input_judged) {
     run.passes_kept = 0;
@@ -211,8 +211,9 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   if (detail::stein_decides(run.choice)) return stein_run(cloud, normals_out, filter, progress, judge, input, run);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());
-  const double input_rms = judge.rms_deg(input.data());
-  const double own_error = judge.own_error_deg(input.data());
+  const detail::SurfaceJudge::Sums input_sums = judge.input_sums(input.data());
+  const double input_rms = input_sums.rms_deg();
+  const double own_error = input_sums.own_error_deg();
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::size_t best_candidate = 0;

@@ -126,6 +126,7 @@ SurfaceJudge::SurfaceJudge(const std::vector<double>& centred, const SampleNeigh
 SurfaceJudge::Sums SurfaceJudge::sums(const double* normals_xyz) const {
   Sums sums;
   if (empty()) return sums;
+  sums.samples = ids_.size();
   const std::size_t k = std::size_t(neighbours_), samples = ids_.size();
   // The next scale down: a quarter of the scored neighbours, the nearest.
   const int inner = scored_ / 4;
@@ -177,6 +178,14 @@ double SurfaceJudge::rms_deg(const double* normals_xyz) const {
   return std::sqrt(sum_squared(normals_xyz) / double(ids_.size())) * 180 / geometry::kPi;
 }
 
+double SurfaceJudge::Sums::rms_deg() const {
+  return samples > 0 ? std::sqrt(squared / double(samples)) * 180 / geometry::kPi : 0.0;
+}
+
+double SurfaceJudge::Sums::own_error_deg() const {
+  return samples > 0 ? std::sqrt(own_error_squared() / double(samples)) * 180 / geometry::kPi : 0.0;
+}
+
 double SurfaceJudge::Sums::own_error_squared() const {
   // The fits' noise, and what of the two scales' disagreement their noise does not explain: the
   // bias of detail finer than the neighbourhood, or of a sheet the weights lost.
@@ -200,12 +209,12 @@ void SurfaceJudge::choose_scale(const double* normals_xyz) {
   score_with(candidates[0]);
   const Sums whole = sums(normals_xyz);
   score_with(candidates[1]);
-  if (!quarter_is_better(whole, sums(normals_xyz))) score_with(candidates[0]);
+  const Sums quarter = sums(normals_xyz);
+  const bool quarter_better = quarter_is_better(whole, quarter);
+  if (!quarter_better) score_with(candidates[0]);
+  input_sums_ = quarter_better ? quarter : whole;
 }
 
-double SurfaceJudge::own_error_deg(const double* normals_xyz) const {
-  if (empty()) return 0;
-  return std::sqrt(sums(normals_xyz).own_error_squared() / double(ids_.size())) * 180 / geometry::kPi;
-}
+double SurfaceJudge::own_error_deg(const double* normals_xyz) const { return sums(normals_xyz).own_error_deg(); }
 
 }  // namespace pnf::detail

@@ -40,12 +40,16 @@ class SurfaceJudge {
   // first; choose_scale may take the nearest quarter instead.
   int scored() const { return scored_; }
   // Scores at the scale, of the two (all the neighbours, or their nearest quarter), whose own
-  // error (own_error_deg) is the smaller in the frames of `normals_xyz`: the larger one averages
-  // noise better, the smaller one follows detail finer than the larger one's neighbourhood.
+  // error (own_error_deg) is the smaller in the frames of `normals_xyz`, the input normals: the
+  // larger one averages noise better, the smaller one follows detail finer than the larger one's
+  // neighbourhood. Keeps the input's sums at the scale chosen (input_sums).
   void choose_scale(const double* normals_xyz);
   // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
   static std::vector<int> scales_of(int neighbours);
-  void score_with(int points) { scored_ = points < neighbours_ ? points : neighbours_; }
+  void score_with(int points) {
+    scored_ = points < neighbours_ ? points : neighbours_;
+    input_sums_ = Sums{};  // they were at the scale before
+  }
   // The RMS over the samples of the angle (degrees) between each sample's normal in `normals_xyz`
   // (N by 3, the cloud's order) and the normal of the surface fitted in its frame.
   double rms_deg(const double* normals_xyz) const;
@@ -56,12 +60,21 @@ class SurfaceJudge {
   // neighbourhood, or a sheet the weights cannot hold on to (typical of the samples: a median).
   double own_error_deg(const double* normals_xyz) const;
   struct Sums {
+    std::size_t samples = 0;
     double squared = 0;       // the judged angles squared (radians^2), summed over the samples
     double disagreement = 0;  // the two scales' fits apart, squared: the samples' median / ln 2, times their count
     double variance = 0, inner_variance = 0;  // the slopes' variances at the two scales, summed
     double own_error_squared() const;         // summed over the samples: see own_error_deg
+    double rms_deg() const;                   // rms_deg of the normals summed
+    double own_error_deg() const;             // own_error_deg in their frames
   };
   Sums sums(const double* normals_xyz) const;
+  // The input normals' sums (`input`, N by 3) at the scale scored: those choose_scale kept where
+  // it was given them, so that the input is fitted once, else fitted now.
+  Sums input_sums(const double* input) const { return input_sums_.samples > 0 ? input_sums_ : sums(input); }
+  double input_rms_deg(const double* input) const {
+    return input_sums_.samples > 0 ? input_sums_.rms_deg() : rms_deg(input);
+  }
   static bool quarter_is_better(const Sums& whole, const Sums& quarter);
 
  private:
@@ -72,6 +85,7 @@ class SurfaceJudge {
   std::vector<double> offsets_;  // per sample, `neighbours_` rows of x y z from the sample
   int neighbours_ = 0, scored_ = 0;
   double width_ = 0;
+  Sums input_sums_;  // choose_scale's, at the scale it chose; no samples where it did not run
 };
 
 // The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside

@@ -50,8 +50,9 @@ class JudgedPasses {
     if (judging_.root) {
       const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
       const double* input = judging_.root->input_normals.data();
-      numbers[0] = judge.rms_deg(input);
-      numbers[1] = judge.own_error_deg(input);
+      const pnf::detail::SurfaceJudge::Sums sums = judge.input_sums(input);
+      numbers[0] = sums.rms_deg();
+      numbers[1] = sums.own_error_deg();
       numbers[2] = double(judge.scored());
       numbers[3] = double(judge.size());
     }

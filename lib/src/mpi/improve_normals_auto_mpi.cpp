@@ -101,7 +101,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
     kept = detail::gather_rows(comm, kept);
   }
   if (rank == 0) {
-    judged[0] = root.judge.rms_deg(root.input_normals.data());
+    judged[0] = root.judge.input_rms_deg(root.input_normals.data());
     if (run.passes_kept > 0) judged[1] = root.judge.rms_deg(kept.data());
   }
   detail::check_mpi(MPI_Bcast(judged, 2, MPI_DOUBLE, 0, comm), "MPI_Bcast");
