@@ -230,27 +230,42 @@ TEST(SpatialIndex, NearestTableMatchesBruteForce) {
   }
 }
 
-// Both of FLANN's result sets (a sorted array up to 250 neighbours, a heap beyond) give the exact
-// k nearest.
+// FLANN's sorted array (up to 250 neighbours) and, from 250, the search within a radius that
+// holds k give the exact k nearest: in a volume, on a plane (where the guessed radius is sized),
+// along a line (which needs it widened) and among duplicates (no radius to widen: FLANN's own).
+// Ties may come back in any order, so the distances are compared, and each id's own distance
+// (to 1e-12: FLANN sums the squares in its own order).
 TEST(SpatialIndex, NearestOfPointMatchesBruteForce) {
-  std::vector<double> p = random_points(2000, 4);
-  const SpatialIndex index(p, SpatialIndex::Layout::any_order);
-  for (std::size_t k : {std::size_t(5), std::size_t(300)}) {
-    std::vector<std::size_t> ids(k);
-    std::vector<double> squared(k);
-    for (std::size_t s = 0; s < 2000; s += 101) {
-      index.nearest_of_point(s, k, ids.data(), squared.data());
-      const auto truth = brute_force_nearest(p, s);
-      std::set<std::size_t> got(ids.begin(), ids.end()), want;
-      for (std::size_t j = 0; j < k; ++j) want.insert(truth[j].second);
-      EXPECT_EQ(got, want) << "point " << s << ", k " << k;
-      EXPECT_NEAR(*std::max_element(squared.begin(), squared.end()), truth[k - 1].first, 1e-12)
-          << "squared distances, point " << s;
+  std::vector<std::vector<double>> clouds = {random_points(2000, 4), random_points(2000, 6), random_points(2000, 7),
+                                             random_points(2000, 8)};
+  for (std::size_t i = 0; i < 2000; ++i) {
+    clouds[1][3 * i + 2] = 0;
+    clouds[2][3 * i + 1] *= 1e-3;
+    clouds[2][3 * i + 2] *= 1e-3;
+    if (i < 400) std::copy(&clouds[3][0], &clouds[3][3], &clouds[3][3 * i]);  // 400 points at point 0
+  }
+  for (std::size_t c = 0; c < clouds.size(); ++c) {
+    const SpatialIndex index(clouds[c], SpatialIndex::Layout::any_order);
+    for (std::size_t k : {std::size_t(5), std::size_t(300), std::size_t(1200)}) {
+      std::vector<std::size_t> ids(k);
+      std::vector<double> squared(k);
+      for (std::size_t s = 0; s < 2000; s += 101) {
+        index.nearest_of_point(s, k, ids.data(), squared.data());
+        const auto truth = brute_force_nearest(clouds[c], s);
+        std::vector<double> by_id(2000);
+        for (const auto& [d2, id] : truth) by_id[id] = d2;
+        std::vector<double> got = squared;
+        std::sort(got.begin(), got.end());
+        for (std::size_t j = 0; j < k; ++j) {
+          EXPECT_NEAR(got[j], truth[j].first, 1e-12) << "cloud " << c << ", point " << s << ", k " << k << ", rank " << j;
+          EXPECT_NEAR(squared[j], by_id[ids[j]], 1e-12) << "cloud " << c << ", id " << ids[j] << "'s distance";
+        }
+        EXPECT_EQ(std::set<std::size_t>(ids.begin(), ids.end()).size(), k) << "cloud " << c << ": repeated ids";
+      }
     }
   }
 }
 
-// The layout only decides whether FLANN copies the points in leaf order: every answer is the same.
 TEST(SpatialIndex, LayoutChangesNoAnswer) {
   std::vector<double> p = random_points(3000, 6);
   const SpatialIndex in_place(p, SpatialIndex::Layout::curve_ordered);

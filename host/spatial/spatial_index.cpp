@@ -13,6 +13,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <utility>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -41,6 +42,33 @@ class CollectingResultSet : public flann::ResultSet<double> {
   double squared_limit_;
   std::vector<std::uint32_t>& out_;
 };
+
+// Collects a radius search's ids with their squared distances.
+class DistanceCollectingResultSet : public flann::ResultSet<double> {
+ public:
+  DistanceCollectingResultSet(double squared_limit, std::vector<std::pair<double, std::size_t>>& out)
+      : squared_limit_(squared_limit), out_(out) {}
+  bool full() const override { return true; }
+  void addPoint(double squared_distance, size_t index) override { out_.emplace_back(squared_distance, index); }
+  double worstDist() const override { return squared_limit_; }
+
+ private:
+  double squared_limit_;
+  std::vector<std::pair<double, std::size_t>>& out_;
+};
+
+// FLANN keeps a k-nearest search's best in a heap from k = 250 up (its KNN_HEAP_THRESHOLD), and
+// that heap's upkeep was most of --auto's estimate, whose scales reach 1024-4096 neighbours. From
+// this k on, nearest_of_point takes the k nearest from the points within a radius that holds them:
+// the radius of the nearest k / kGuessShare points, widened as far as a surface would need to
+// hold k (its points grow with the radius squared) times kGuessAreaMargin, and widened again
+// (kWidening in the radius squared) until it holds k. A volume fills faster than a surface (more
+// candidates, still exact), a curve slower (a widening or two).
+constexpr std::size_t kRadiusSearchFromK = 250;
+constexpr std::size_t kGuessShare = 16;
+constexpr double kGuessAreaMargin = 1.5;
+constexpr double kWidening = 4;
+constexpr int kMaxWidenings = 8;  // then, or with no radius to widen (duplicates), FLANN's own search
 
 flann::SearchParams exact_search() {
   flann::SearchParams params;
@@ -406,15 +434,36 @@ NeighbourTable SpatialIndex::nearest_table(int k, const WorkPoll& poll) const {
 
 void SpatialIndex::nearest_of_point(std::size_t point, std::size_t k, std::size_t* ids,
                                     double* squared_distances) const {
+  const double* query = &positions_[3 * point];
+  if (k >= kRadiusSearchFromK) {
+    flann::KNNResultSet<double> guess(k / kGuessShare);
+    tree_->index.findNeighbors(guess, query, exact_search());
+    double limit = guess.worstDist() * double(kGuessShare) * kGuessAreaMargin;
+    std::vector<std::pair<double, std::size_t>> found;
+    found.reserve(2 * k);
+    for (int widening = 0; limit > 0 && widening <= kMaxWidenings; ++widening, limit *= kWidening) {
+      found.clear();
+      DistanceCollectingResultSet within(limit, found);
+      tree_->index.findNeighbors(within, query, exact_search());
+      if (found.size() < k) continue;
+      // Every point nearer than the limit was found, so the k nearest of them are the cloud's.
+      std::nth_element(found.begin(), found.begin() + std::ptrdiff_t(k - 1), found.end());
+      for (std::size_t j = 0; j < k; ++j) {
+        squared_distances[j] = found[j].first;
+        ids[j] = found[j].second;
+      }
+      return;
+    }
+  }
   flann::SearchParams search;
   search.checks = flann::FLANN_CHECKS_UNLIMITED;
   search.eps = 0.0f;
   search.sorted = false;
   search.cores = 1;  // the caller spreads its samples over threads instead
-  const flann::Matrix<double> query(const_cast<double*>(positions_.data()) + point * 3, 1, 3);
+  const flann::Matrix<double> query_matrix(const_cast<double*>(query), 1, 3);
   flann::Matrix<std::size_t> id_matrix(ids, 1, k);
   flann::Matrix<double> distance_matrix(squared_distances, 1, k);
-  tree_->index.knnSearch(query, id_matrix, distance_matrix, k, search);
+  tree_->index.knnSearch(query_matrix, id_matrix, distance_matrix, k, search);
 }
 
 }  // namespace pnf::detail

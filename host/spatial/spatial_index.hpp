@@ -102,7 +102,8 @@ class SpatialIndex {
   // The k nearest points of point `point` (itself included when it is among them, which it is
   // unless k duplicates of it exist): ids[0 .. k) and their SQUARED distances, in no particular
   // order (but deterministic). One thread; callers spread their samples over threads. Needs
-  // 1 <= k <= N.
+  // 1 <= k <= N. From k = 250, the points within a radius that holds k, then the k nearest of them
+  // (FLANN's heap for so many cost most of --auto's estimate; spatial_index.cpp).
   void nearest_of_point(std::size_t point, std::size_t k, std::size_t* ids, double* squared_distances) const;
 
   // For up to `max_samples` points spread evenly over the cloud: the mean distance to their k
