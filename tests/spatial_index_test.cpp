@@ -257,7 +257,8 @@ TEST(SpatialIndex, NearestOfPointMatchesBruteForce) {
         std::vector<double> got = squared;
         std::sort(got.begin(), got.end());
         for (std::size_t j = 0; j < k; ++j) {
-          EXPECT_NEAR(got[j], truth[j].first, 1e-12) << "cloud " << c << ", point " << s << ", k " << k << ", rank " << j;
+          EXPECT_NEAR(got[j], truth[j].first, 1e-12)
+              << "cloud " << c << ", point " << s << ", k " << k << ", rank " << j;
           EXPECT_NEAR(squared[j], by_id[ids[j]], 1e-12) << "cloud " << c << ", id " << ids[j] << "'s distance";
         }
         EXPECT_EQ(std::set<std::size_t>(ids.begin(), ids.end()).size(), k) << "cloud " << c << ": repeated ids";

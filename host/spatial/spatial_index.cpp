@@ -187,8 +187,7 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
     std::vector<double> cx, cy, cz;
   };
   parallel_blocks(
-      b1 - b0, poll,
-      [] { return Scratch{}; },
+      b1 - b0, poll, [] { return Scratch{}; },
       [&](Scratch& s, std::size_t b) {
         const std::size_t begin = starts[b0 + b], stop = starts[b0 + b + 1];
         double lo[3], hi[3], centre[3], half_diagonal2 = 0;
@@ -220,7 +219,8 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
             keep->blocks_[b] = s.ids;  // one exact allocation a block, no growing vector to copy
           }
         }
-        s.scratch.resize(s.ids.size() + 16);  // room for the AVX-512 (16 ids) and AVX2 (8) compactions' full-width stores
+        // Room for the AVX-512 (16 ids) and AVX2 (8) compactions' full-width stores.
+        s.scratch.resize(s.ids.size() + 16);
         s.cx.resize(s.ids.size());
         s.cy.resize(s.ids.size());
         s.cz.resize(s.ids.size());
@@ -253,23 +253,24 @@ std::vector<std::uint32_t> SpatialIndex::count_within(double radius, std::size_t
                                                       const WorkPoll& poll, BlockCandidates* keep) const {
   std::vector<std::uint32_t> counts(count);
   const double radius2 = radius * radius;
-  for_each_point(radius, first, count, poll,
-                 [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
-                     const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
-                   const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
-                   const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
-                   counts[i - first] = count_candidates_within(c, px, py, pz, radius2, tuning_);
-                 },
-                 nullptr, keep);
+  for_each_point(
+      radius, first, count, poll,
+      [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>& cx,
+          const std::vector<double>& cy, const std::vector<double>& cz, std::vector<std::uint32_t>&) {
+        const double px = positions_[3 * i], py = positions_[3 * i + 1], pz = positions_[3 * i + 2];
+        const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
+        counts[i - first] = count_candidates_within(c, px, py, pz, radius2, tuning_);
+      },
+      nullptr, keep);
   return counts;
 }
 
 std::size_t SpatialIndex::candidates_scanned(double radius, std::size_t first, std::size_t count) const {
   std::vector<std::uint32_t> scanned(count);
-  for_each_point(radius, first, count, {},
-                 [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>&,
-                     const std::vector<double>&, const std::vector<double>&,
-                     std::vector<std::uint32_t>&) { scanned[i - first] = std::uint32_t(ids.size()); });
+  for_each_point(
+      radius, first, count, {},
+      [&](std::size_t i, const std::vector<std::uint32_t>& ids, const std::vector<double>&, const std::vector<double>&,
+          const std::vector<double>&, std::vector<std::uint32_t>&) { scanned[i - first] = std::uint32_t(ids.size()); });
   return std::accumulate(scanned.begin(), scanned.end(), std::size_t(0));
 }
 
@@ -287,8 +288,8 @@ CsrLists SpatialIndex::lists_within(double radius, std::size_t first, std::size_
 }
 
 void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t count,
-                                 const std::vector<std::uint32_t>& counts, std::uint64_t* offsets,
-                              std::uint32_t* indices, const WorkPoll& poll, const BlockCandidates* reuse) const {
+                              const std::vector<std::uint32_t>& counts, std::uint64_t* offsets, std::uint32_t* indices,
+                              const WorkPoll& poll, const BlockCandidates* reuse) const {
   offsets[0] = 0;
   for (std::size_t k = 0; k < count; ++k) offsets[k + 1] = offsets[k] + counts[first + k];
   const double radius2 = radius * radius;
@@ -301,7 +302,8 @@ void SpatialIndex::fill_lists(double radius, std::size_t first, std::size_t coun
         // Branch-free compaction into scratch (a member or not is a coin toss near the
         // boundary, which a branch predicts badly), then one copy into the list.
         const Candidates c{cx.data(), cy.data(), cz.data(), ids.size()};
-        const std::size_t written = compact_candidates_within(c, ids.data(), px, py, pz, radius2, tuning_, scratch.data());
+        const std::size_t written =
+            compact_candidates_within(c, ids.data(), px, py, pz, radius2, tuning_, scratch.data());
         const std::size_t capacity = offsets[i - first + 1] - offsets[i - first];
         if (written != capacity) {
           mismatch = true;

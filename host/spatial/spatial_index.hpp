@@ -60,9 +60,9 @@ class SpatialIndex {
   // Every variant gives the same lists: the exact test is the same double expression.
   struct ListTuning {
     double block_extent_in_radii = 1.0;  // a search block's largest extent along an axis, in radii
-    bool wide_scan = true;  // the count's scan built for AVX-512 / AVX2 as well, chosen at run time
-    bool avx512_scan = true;  // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
-    bool avx2_scan = true;    // else explicit AVX2 scans (mask, popcount, table permute) where it has AVX2
+    bool wide_scan = true;               // the count's scan built for AVX-512 / AVX2 as well, chosen at run time
+    bool avx512_scan = true;             // explicit AVX-512 scans (mask, popcount, compress) where the CPU has it
+    bool avx2_scan = true;               // else explicit AVX2 scans (mask, popcount, table permute) where it has AVX2
   };
   void set_list_tuning(const ListTuning& tuning) { tuning_ = tuning; }
   // The candidates the list searches for `radius` test over points [first, first + count), for
@@ -138,8 +138,8 @@ class SpatialIndex {
   // The lists of points [first, first + count) within `radius`, each in ascending id order.
   // `counts` is what count_within returned for the same radius; it sizes the arrays before any
   // search runs.
-  CsrLists lists_within(double radius, std::size_t first, std::size_t count,
-                        const std::vector<std::uint32_t>& counts, const WorkPoll& poll = {}) const;
+  CsrLists lists_within(double radius, std::size_t first, std::size_t count, const std::vector<std::uint32_t>& counts,
+                        const WorkPoll& poll = {}) const;
 
   // The same lists written into caller storage (a mapped device buffer, say): `offsets` has
   // count + 1 entries and `indices` the sum of counts[first .. first + count).
