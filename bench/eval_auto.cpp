@@ -364,10 +364,9 @@ int main(int argc, char** argv) {
           << ", \"normal_error_correlation\": " << e.normal_error_correlation
           << ", \"normal_position_coupling\": " << e.normal_position_coupling
           << ", \"crease_sharpness\": " << e.crease_sharpness
-          << ", \"normal_crease_length\": " << e.normal_crease_length
-          << ", \"choose_seconds\": " << o.estimate_seconds << ", \"auto_seconds\": " << o.auto_seconds
-          << ", \"rule\": \"" << json_escape(o.choice.rule) << "\", \"judged\": \"" << json_escape(o.choice.judged)
-          << "\", \"grid\": [";
+          << ", \"normal_crease_length\": " << e.normal_crease_length << ", \"choose_seconds\": " << o.estimate_seconds
+          << ", \"auto_seconds\": " << o.auto_seconds << ", \"rule\": \"" << json_escape(o.choice.rule)
+          << "\", \"judged\": \"" << json_escape(o.choice.judged) << "\", \"grid\": [";
       for (std::size_t g = 0; g < o.grid.size(); ++g) {
         const Setting& s = o.grid[g];
         out << (g ? ", " : "") << "[" << s.sigma_f << ", " << s.sigma_g << ", " << s.passes << ", " << s.rms << "]";

@@ -111,5 +111,4 @@ Outcome evaluate(NormalFilter& filter, const Case& c, bool grid, const std::vect
   return o;
 }
 
-
 }  // namespace pnf::eval

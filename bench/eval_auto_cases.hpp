@@ -47,8 +47,8 @@ struct Grid {
   std::vector<int> passes;
 };
 inline const Grid kFullGrid{{std::begin(kGridSigmaF), std::end(kGridSigmaF)},
-                     {std::begin(kGridSigmaG), std::end(kGridSigmaG)},
-                     {std::begin(kGridPasses), std::end(kGridPasses)}};
+                            {std::begin(kGridSigmaG), std::end(kGridSigmaG)},
+                            {std::begin(kGridPasses), std::end(kGridPasses)}};
 // For the held-out cases above --full-grid-points (400k points: one full grid there costs about
 // 20 times a 20k one): the sigma_g that the tuned cases' optima used (0.25-2 and off), sigma_f at
 // the ends of the full grid, and the passes at 2 and 8 (the full grid's optima on shapes with

@@ -293,5 +293,4 @@ std::vector<Vec3> jittered_normals(const std::vector<Vec3>& truth, double rms_de
   return normals;
 }
 
-
 }  // namespace pnf::eval

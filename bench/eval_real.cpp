@@ -176,7 +176,9 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_path, "write every case, its grid included, as JSON");
   app.add_option("--dump", dump_folder, "write each case's points and normals into this folder (see dump_case)");
   app.add_option("--seed", seed, "seed of the sampling, the noise and the jitter")->capture_default_str();
-  app.add_option("--data", data_dir, "the shared data folder (meshes/*.off, fandisk.off, bun_zipper.ply, Armadillo.ply, kitten.xyz, oni.xyz)")
+  app.add_option(
+         "--data", data_dir,
+         "the shared data folder (meshes/*.off, fandisk.off, bun_zipper.ply, Armadillo.ply, kitten.xyz, oni.xyz)")
       ->capture_default_str();
   app.add_option("--backend", backend, "opencl (default) or reference")->check(CLI::IsMember({"opencl", "reference"}));
   app.add_option("--device", device, "OpenCL device selector");

@@ -32,7 +32,6 @@ std::string json_escape(const std::string& s) {
   return out;
 }
 
-
 }  // namespace
 
 std::string setting_text(const Setting& s) {
@@ -50,8 +49,8 @@ bool not_worse(const AngleError& a, const AngleError& input) {
 }
 
 void print_report(const ReportHeading& h, const std::vector<Outcome>& outcomes, const std::vector<ModelInfo>& infos) {
-  std::printf("pnf_eval_real on %s, commit %s, %zu points a model, seed %llu\n\n", h.description.c_str(), h.commit.c_str(),
-              h.points, static_cast<unsigned long long>(h.seed));
+  std::printf("pnf_eval_real on %s, commit %s, %zu points a model, seed %llu\n\n", h.description.c_str(),
+              h.commit.c_str(), h.points, static_cast<unsigned long long>(h.seed));
   std::printf(
       "Oriented angle to the true normals, RMS / mean, degrees. Noise: sigma per axis, fraction of the bounding-box "
       "diagonal (1). Settings sigma_f/sigma_g/passes in mean radii. ratio = auto / best (RMS). auto<=in: no worse "
@@ -96,7 +95,6 @@ void print_report(const ReportHeading& h, const std::vector<Outcome>& outcomes, 
                 m.stats.nonmanifold_edges, m.stats.misoriented_edges, m.stats.flipped ? "yes" : "no",
                 100.0 * double(m.stats.sharp_corners) / double(3 * m.triangles), m.read_seconds, m.sample_seconds);
   }
-
 }
 
 void write_json(const std::string& path, const ReportHeading& h, const std::vector<Outcome>& outcomes,
@@ -113,11 +111,10 @@ void write_json(const std::string& path, const ReportHeading& h, const std::vect
         << ", \"triangles\": " << m.triangles << ", \"degenerate\": " << m.stats.degenerate
         << ", \"welded\": " << m.stats.welded << ", \"boundary_edges\": " << m.stats.boundary_edges
         << ", \"nonmanifold_edges\": " << m.stats.nonmanifold_edges
-        << ", \"misoriented_edges\": " << m.stats.misoriented_edges
-        << ", \"signed_volume\": " << m.stats.signed_volume
-        << ", \"flipped\": " << (m.stats.flipped ? "true" : "false")
-        << ", \"sharp_corners\": " << m.stats.sharp_corners << ", \"read_seconds\": " << m.read_seconds
-        << ", \"sample_seconds\": " << m.sample_seconds << "}" << (i + 1 < infos.size() ? "," : "") << "\n";
+        << ", \"misoriented_edges\": " << m.stats.misoriented_edges << ", \"signed_volume\": " << m.stats.signed_volume
+        << ", \"flipped\": " << (m.stats.flipped ? "true" : "false") << ", \"sharp_corners\": " << m.stats.sharp_corners
+        << ", \"read_seconds\": " << m.read_seconds << ", \"sample_seconds\": " << m.sample_seconds << "}"
+        << (i + 1 < infos.size() ? "," : "") << "\n";
   }
   out << "  ],\n  \"cases\": [\n";
   for (std::size_t i = 0; i < outcomes.size(); ++i) {

@@ -78,8 +78,7 @@ int main() {
   const int lanes = avx512 ? 16 : 8;
   auto* chains = avx512 ? chains_avx512 : chains_avx2;
   const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
-  std::printf("%s, %d fp32 lanes, %d chains of FMAs, best of 5 runs\n", avx512 ? "AVX-512" : "AVX2", lanes,
-              kChains);
+  std::printf("%s, %d fp32 lanes, %d chains of FMAs, best of 5 runs\n", avx512 ? "AVX-512" : "AVX2", lanes, kChains);
   std::printf("1 thread:   %.1f GFLOP/s\n", best_gflops(1, lanes, chains));
   std::printf("%d threads: %.1f GFLOP/s\n", threads, best_gflops(threads, lanes, chains));
 }

@@ -61,8 +61,8 @@ int main(int argc, char** argv) {
   const double reach = prepared.plan.reach;
   const std::size_t n = w.cloud.size();
   const std::vector<std::uint32_t> all_counts = search.count_within(reach);
-  const double neighbours_mean =
-      double(std::accumulate(all_counts.begin(), all_counts.end(), std::size_t(0))) / double(std::max<std::size_t>(n, 1));
+  const double neighbours_mean = double(std::accumulate(all_counts.begin(), all_counts.end(), std::size_t(0))) /
+                                 double(std::max<std::size_t>(n, 1));
 
   std::vector<Variant> variants;
   for (const std::string& name : names) {

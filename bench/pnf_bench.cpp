@@ -187,7 +187,6 @@ double num(const std::string& json, const std::string& key) {
   return v.empty() ? 0 : std::stod(v);
 }
 
-
 }  // namespace
 
 int main(int argc, char** argv) {

@@ -154,4 +154,3 @@ std::string ClRuntime::description() const {
 }
 
 }  // namespace pnf::detail
-

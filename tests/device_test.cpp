@@ -186,8 +186,8 @@ TEST(ClRuntime, IsMoveOnly) {
 }
 
 TEST(WithClErrors, AllocationCodesBecomeTheDeviceMemoryErrorAndOthersADeviceError) {
-  for (cl_int code : {CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES, CL_OUT_OF_HOST_MEMORY,
-                      CL_INVALID_BUFFER_SIZE}) {
+  for (cl_int code :
+       {CL_MEM_OBJECT_ALLOCATION_FAILURE, CL_OUT_OF_RESOURCES, CL_OUT_OF_HOST_MEMORY, CL_INVALID_BUFFER_SIZE}) {
     EXPECT_THROW(pnf::detail::with_cl_errors("dev", [&] { throw cl::Error(code, "clCreateBuffer"); }),
                  pnf::detail::DeviceMemoryError)
         << pnf::detail::cl_error_name(code);

@@ -38,8 +38,7 @@ TEST(KernelBuild, FilterKernelCompilesWithoutWarnings) {
              << program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(runtime.device());
     }
     const std::string log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(runtime.device());
-    EXPECT_FALSE(std::regex_search(log, diagnostic)) << options << " on " << runtime.info().device_name << ":\n"
-                                                     << log;
+    EXPECT_FALSE(std::regex_search(log, diagnostic)) << options << " on " << runtime.info().device_name << ":\n" << log;
   }
 }
 

@@ -14,8 +14,8 @@
 #include "cl_runtime.hpp"
 #include "kernel_source.hpp"
 #include "pnf/error.hpp"
-#include "spatial/spatial_index.hpp"
 #include "pnf_filter.h"
+#include "spatial/spatial_index.hpp"
 #include "test_backends.hpp"
 
 namespace {

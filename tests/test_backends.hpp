@@ -51,16 +51,16 @@ inline NormalFilter* reference_filter() {
 
 // In a test body, where OpenCL could not be set up (`why`): skips when no OpenCL device exists
 // and PNF_DEVICE is unset, and says so; fails otherwise.
-#define PNF_OPENCL_OR_SKIP(why)                                                                           \
-  do {                                                                                                    \
-    if (::pnf::test::may_skip_without_opencl()) {                                                         \
-      GTEST_SKIP() << "no OpenCL device on this machine and PNF_DEVICE unset (set it to make this a "      \
-                      "failure): "                                                                        \
-                   << (why);                                                                              \
-    }                                                                                                     \
-    FAIL() << "OpenCL could not be set up although "                                                      \
+#define PNF_OPENCL_OR_SKIP(why)                                                                               \
+  do {                                                                                                        \
+    if (::pnf::test::may_skip_without_opencl()) {                                                             \
+      GTEST_SKIP() << "no OpenCL device on this machine and PNF_DEVICE unset (set it to make this a "         \
+                      "failure): "                                                                            \
+                   << (why);                                                                                  \
+    }                                                                                                         \
+    FAIL() << "OpenCL could not be set up although "                                                          \
            << (std::getenv("PNF_DEVICE") ? "PNF_DEVICE is set" : "this machine has an OpenCL device") << ": " \
-           << (why);                                                                                      \
+           << (why);                                                                                          \
   } while (false)
 
 // In a test body: `NormalFilter* f = PNF_FILTER_OR_SKIP(backend);` then PNF_SKIP_IF_NULL(f).
@@ -71,9 +71,9 @@ inline NormalFilter* reference_filter() {
     return ::pnf::test::opencl_filter(why);                                             \
   }())
 
-#define PNF_SKIP_IF_NULL(filter)                  \
-  if (!(filter)) {                                \
-    std::string why;                              \
-    ::pnf::test::opencl_filter(why);              \
-    PNF_OPENCL_OR_SKIP(why);                      \
+#define PNF_SKIP_IF_NULL(filter)     \
+  if (!(filter)) {                   \
+    std::string why;                 \
+    ::pnf::test::opencl_filter(why); \
+    PNF_OPENCL_OR_SKIP(why);         \
   }

@@ -35,8 +35,7 @@ std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double
   return count_scan_body(c, px, py, pz, radius2);
 }
 // The scalar ends of the vector scans below: candidates [k, size) by within() itself.
-inline std::uint32_t count_tail(const Candidates& c, std::size_t k, double px, double py, double pz,
-                                double radius2) {
+inline std::uint32_t count_tail(const Candidates& c, std::size_t k, double px, double py, double pz, double radius2) {
   std::uint32_t n = 0;
   for (; k < c.size; ++k) n += within(c.x[k] - px, c.y[k] - py, c.z[k] - pz, radius2);
   return n;
@@ -57,8 +56,8 @@ inline std::size_t compact_tail(const Candidates& c, const std::uint32_t* ids, s
 // the compaction packs the ids it selects with one in-register compress and a full-width store
 // (a compress straight to memory is microcoded and slow on some cores). `out` must have room
 // for 16 ids past the last one kept; the tail (under 16) goes through within() itself.
-__attribute__((target("avx512f"))) inline __mmask8 within8(const Candidates& c, std::size_t at, __m512d px,
-                                                             __m512d py, __m512d pz, __m512d radius2) {
+__attribute__((target("avx512f"))) inline __mmask8 within8(const Candidates& c, std::size_t at, __m512d px, __m512d py,
+                                                           __m512d pz, __m512d radius2) {
   const __m512d dx = _mm512_sub_pd(_mm512_loadu_pd(c.x + at), px);
   const __m512d dy = _mm512_sub_pd(_mm512_loadu_pd(c.y + at), py);
   const __m512d dz = _mm512_sub_pd(_mm512_loadu_pd(c.z + at), pz);
@@ -66,15 +65,15 @@ __attribute__((target("avx512f"))) inline __mmask8 within8(const Candidates& c, 
   return _mm512_cmp_pd_mask(d2, radius2, _CMP_LE_OQ);
 }
 
-__attribute__((target("avx512f"))) inline __mmask16 within16(const Candidates& c, std::size_t k, __m512d px,
-                                                               __m512d py, __m512d pz, __m512d radius2) {
-  return __mmask16(unsigned(within8(c, k, px, py, pz, radius2)) | (unsigned(within8(c, k + 8, px, py, pz, radius2)) << 8));
+__attribute__((target("avx512f"))) inline __mmask16 within16(const Candidates& c, std::size_t k, __m512d px, __m512d py,
+                                                             __m512d pz, __m512d radius2) {
+  return __mmask16(unsigned(within8(c, k, px, py, pz, radius2)) |
+                   (unsigned(within8(c, k + 8, px, py, pz, radius2)) << 8));
 }
 
-__attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candidates& c, double px, double py,
-                                                                     double pz, double radius2) {
-  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
-                vr = _mm512_set1_pd(radius2);
+__attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candidates& c, double px, double py, double pz,
+                                                                   double radius2) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz), vr = _mm512_set1_pd(radius2);
   std::uint32_t n = 0;
   std::size_t k = 0;
   for (; k + 16 <= c.size; k += 16) n += std::uint32_t(__builtin_popcount(unsigned(within16(c, k, vx, vy, vz, vr))));
@@ -82,10 +81,9 @@ __attribute__((target("avx512f"))) std::uint32_t count_scan_avx512(const Candida
 }
 
 __attribute__((target("avx512f"))) std::size_t compact_scan_avx512(const Candidates& c, const std::uint32_t* ids,
-                                                                     double px, double py, double pz, double radius2,
-                                                                     std::uint32_t* out) {
-  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz),
-                vr = _mm512_set1_pd(radius2);
+                                                                   double px, double py, double pz, double radius2,
+                                                                   std::uint32_t* out) {
+  const __m512d vx = _mm512_set1_pd(px), vy = _mm512_set1_pd(py), vz = _mm512_set1_pd(pz), vr = _mm512_set1_pd(radius2);
   std::size_t written = 0, k = 0;
   for (; k + 16 <= c.size; k += 16) {
     const __mmask16 keep = within16(c, k, vx, vy, vz, vr);
@@ -107,7 +105,7 @@ bool cpu_has_avx512() {
 // table of the kept lanes' positions per mask (2 KB) and stores all 8, so `out` must have room
 // for 8 ids past the last one kept.
 __attribute__((target("avx2"))) inline unsigned within8_avx2(const Candidates& c, std::size_t at, __m256d px,
-                                                               __m256d py, __m256d pz, __m256d radius2) {
+                                                             __m256d py, __m256d pz, __m256d radius2) {
   unsigned mask = 0;
   for (int half = 0; half < 2; ++half) {
     const std::size_t k = at + 4 * std::size_t(half);
@@ -122,9 +120,8 @@ __attribute__((target("avx2"))) inline unsigned within8_avx2(const Candidates& c
 }
 
 __attribute__((target("avx2"))) std::uint32_t count_scan_avx2(const Candidates& c, double px, double py, double pz,
-                                                                double radius2) {
-  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz),
-                vr = _mm256_set1_pd(radius2);
+                                                              double radius2) {
+  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz), vr = _mm256_set1_pd(radius2);
   std::uint32_t n = 0;
   std::size_t k = 0;
   for (; k + 8 <= c.size; k += 8) n += std::uint32_t(__builtin_popcount(within8_avx2(c, k, vx, vy, vz, vr)));
@@ -146,12 +143,11 @@ struct CompressTable {
   }
 };
 
-__attribute__((target("avx2"))) std::size_t compact_scan_avx2(const Candidates& c, const std::uint32_t* ids,
-                                                                double px, double py, double pz, double radius2,
-                                                                std::uint32_t* out) {
+__attribute__((target("avx2"))) std::size_t compact_scan_avx2(const Candidates& c, const std::uint32_t* ids, double px,
+                                                              double py, double pz, double radius2,
+                                                              std::uint32_t* out) {
   static const CompressTable table;
-  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz),
-                vr = _mm256_set1_pd(radius2);
+  const __m256d vx = _mm256_set1_pd(px), vy = _mm256_set1_pd(py), vz = _mm256_set1_pd(pz), vr = _mm256_set1_pd(radius2);
   std::size_t written = 0, k = 0;
   for (; k + 8 <= c.size; k += 8) {
     const unsigned keep = within8_avx2(c, k, vx, vy, vz, vr);

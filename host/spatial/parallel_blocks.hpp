@@ -30,7 +30,8 @@ void parallel_blocks(std::size_t blocks, const WorkPoll& poll, Setup&& setup, Wo
   std::atomic<std::size_t> next{0}, done{0};
   std::atomic<bool> stop{false};
   std::exception_ptr failure;
-  std::chrono::steady_clock::time_point last_poll{};  // long ago: the first grab asks, so even a short search can be cancelled
+  std::chrono::steady_clock::time_point
+      last_poll{};  // long ago: the first grab asks, so even a short search can be cancelled
 #pragma omp parallel
   {
     auto state = setup();
@@ -40,7 +41,8 @@ void parallel_blocks(std::size_t blocks, const WorkPoll& poll, Setup&& setup, Wo
     const bool polls = bool(poll);
 #endif
     for (;;) {
-      if (polls && std::chrono::duration<double>(std::chrono::steady_clock::now() - last_poll).count() >= kPollSeconds) {
+      if (polls &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - last_poll).count() >= kPollSeconds) {
         try {
           if (!poll(double(done.load(std::memory_order_relaxed)) / double(blocks))) stop = true;
         } catch (...) {

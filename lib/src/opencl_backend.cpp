@@ -45,9 +45,8 @@ class OpenClBackend : public FilterBackend {
     std::string options = std::string(kBuildOptions) + " -DPNF_LANES=" + std::to_string(lanes_);
     if (!extra_options.empty()) options += " " + extra_options;
     kernel_ = runtime_.kernel("filter.cl", "pnf_filter_pass", options);
-    work_group_ = guarded([&] {
-      return std::min(kWorkGroup, kernel_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(runtime_.device()));
-    });
+    work_group_ = guarded(
+        [&] { return std::min(kWorkGroup, kernel_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(runtime_.device())); });
   }
 
   std::string description() const override {
@@ -127,8 +126,8 @@ class OpenClBackend : public FilterBackend {
       // The global offset makes get_global_id the index in the chunk's lists; the global size is
       // rounded up to whole work-groups (kWorkGroup).
       const std::size_t global = (count + work_group_ - 1) / work_group_ * work_group_;
-      runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NDRange(first), cl::NDRange(global),
-                                            cl::NDRange(work_group_), nullptr, &event);
+      runtime_.queue().enqueueNDRangeKernel(kernel_, cl::NDRange(first), cl::NDRange(global), cl::NDRange(work_group_),
+                                            nullptr, &event);
       events_.push_back(event);
     });
   }

@@ -85,7 +85,7 @@ class ReferenceBackend : public FilterBackend {
   std::vector<pnf_real4> positions_;  // the layout pnf_filter.h reads, as on the device
   std::vector<pnf_real4> current_;
   std::vector<pnf_real4> next_;
-  std::size_t first_ = 0;  // the current lists' first point
+  std::size_t first_ = 0;                      // the current lists' first point
   std::size_t pass_kept_ = 0, last_kept_ = 0;  // degenerate points: this pass so far, last pass
   std::vector<std::uint64_t> offsets_;
   std::vector<std::uint32_t> indices_;

@@ -100,7 +100,8 @@ TEST(AutoCreases, GentleCreaseAtLowNoiseGetsANarrowSigmaG) {
 // away from them, and the rule takes the line for gentle creases. Held-out case of issue 14:
 // before the normals were read, the smooth flat line's 8 passes gave 1.26 times the grid's best
 // at 20k points (1.20 at 100k); here the best setting of the grid there (8 / 0.25 mean radii, 2
-// passes) and the smooth line's own result are the answers to beat. A plane sampled and noised alike reads no such crease.
+// passes) and the smooth line's own result are the answers to beat. A plane sampled and noised alike reads no such
+// crease.
 TEST(AutoCreases, FaintCreaseIsSeenInTheNormalsAndKept) {
   Crease c = make_crease(150, 20000, 0.1, 31);
   c.cloud.normals = pca16_normals(c.cloud.positions, c.truth);

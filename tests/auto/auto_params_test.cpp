@@ -97,9 +97,7 @@ TEST(EstimateData, NormalErrorCorrelationSeesSmoothedNormals) {
 TEST(EstimateData, NormalPositionCouplingTellsPcaFromIndependentNormals) {
   const Noisy tilted = noisy_sphere(20000, 0.25, 4, 12);
   EXPECT_LT(std::fabs(estimate_data(tilted.cloud).normal_position_coupling), 0.1);
-  auto pca_coupling = [&](int k) {
-    return estimate_data(with_pca_normals(tilted, k).cloud).normal_position_coupling;
-  };
+  auto pca_coupling = [&](int k) { return estimate_data(with_pca_normals(tilted, k).cloud).normal_position_coupling; };
   const double pca16 = pca_coupling(16), pca64 = pca_coupling(64);
   EXPECT_GT(pca16, 0.7);  // measured 0.93 (the evaluation's noisy shapes: 0.85-0.94)
   EXPECT_LT(pca64, 0.5 * pca16) << "PCA-16 " << pca16 << ", PCA-64 " << pca64;  // measured 0.17

@@ -85,8 +85,7 @@ TEST_F(RealMeshFiles, UnknownExtensionIsNamed) {
 // A point set's own normals are its truth: scaled like a mesh (centred, unit diagonal), the
 // normals made unit and kept in the file's order.
 TEST_F(RealMeshFiles, PointSetIsScaledAndItsNormalsMadeUnit) {
-  const eval::Shape shape =
-      eval::read_point_set(write("points.xyz", "0 0 0 0 0 2\n2 0 0 0 3 0\n2 2 1 1 0 0\n"));
+  const eval::Shape shape = eval::read_point_set(write("points.xyz", "0 0 0 0 0 2\n2 0 0 0 3 0\n2 2 1 1 0 0\n"));
   ASSERT_EQ(shape.positions.size(), 3u);
   // The box is 2 x 2 x 1 (diagonal 3), centred at (1, 1, 0.5).
   EXPECT_NEAR(shape.positions[0][0], -1.0 / 3, 1e-15);

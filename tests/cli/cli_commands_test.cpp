@@ -65,7 +65,8 @@ TEST_F(CliTest, EstimateOutwardOnASphere) {
   const std::string in = write_cloud("sphere.ply", bare);
   const CliRun r = run({"estimate", in, path("estimated.ply"), "--orient", "outward", "--k", "12"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
-  EXPECT_TRUE(contains(r.err, "2000 points, PCA over 12 nearest points (itself included), oriented by outward")) << r.err;
+  EXPECT_TRUE(contains(r.err, "2000 points, PCA over 12 nearest points (itself included), oriented by outward"))
+      << r.err;
   const std::vector<Vec3> estimated = read_normals(path("estimated.ply"));
   EXPECT_GE(share_facing(estimated, truth.normals), kMinOrientedShare);
   EXPECT_LT(mean_angle_deg(estimated, truth.normals), kMaxMeanDegrees);

@@ -45,7 +45,7 @@ TEST_F(CliTest, FilterHelpShowsTheLibrarysDefaults) {
   auto shows = [&](const std::string& flag, const std::string& value) {
     const std::regex pattern(flag + R"( [A-Z:{},a-z]*=)" + value + R"((\s|$))");
     EXPECT_TRUE(std::regex_search(r.out, pattern)) << "pnf filter --help: no " << flag << " default " << value << "\n"
-                                                    << r.out;
+                                                   << r.out;
   };
   auto number = [](double v) {
     std::ostringstream text;
@@ -84,7 +84,8 @@ TEST_F(CliTest, ReferenceBackendBesideAnOpenClDeviceIsRefused) {
     EXPECT_TRUE(contains(r.err, "'" + device + "'")) << r.err;
     EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
   }
-  const CliRun demo = run({"demo", "--points", "200", "--dir", path("demo"), "--backend", "reference", "--device", "gpu"});
+  const CliRun demo =
+      run({"demo", "--points", "200", "--dir", path("demo"), "--backend", "reference", "--device", "gpu"});
   EXPECT_EQ(demo.exit_code, 2) << demo.describe();
   EXPECT_TRUE(contains(demo.err, refusal("reference", "gpu"))) << demo.err;
   EXPECT_FALSE(std::filesystem::exists(path("demo")));

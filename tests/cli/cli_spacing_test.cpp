@@ -47,7 +47,8 @@ void expect_one_spacing(const CliRun& info, const CliRun& filter, const std::str
   if (!want.empty()) EXPECT_EQ(from_info, want) << info.out;
   // --auto's own report, then the filter's summary of the run it made.
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(filter.err, m, std::regex("--auto:[\\s\\S]*?mean radius +([-+0-9.eE]+)"))) << filter.err;
+  ASSERT_TRUE(std::regex_search(filter.err, m, std::regex("--auto:[\\s\\S]*?mean radius +([-+0-9.eE]+)")))
+      << filter.err;
   EXPECT_EQ(m[1], from_info) << "--auto's mean radius is not info's\n" << info.out << filter.err;
   const std::string summary = filter.err.substr(filter.err.find("pnf filter:"));
   EXPECT_EQ(number_after(summary, "mean radius"), from_info) << "the run's radius is not info's\n" << filter.err;
@@ -57,8 +58,7 @@ void expect_one_spacing(const CliRun& info, const CliRun& filter, const std::str
 
 TEST_F(CliTest, InfoAndAutoReportOneSpacing) {
   const std::string in = write_cloud("ridge.ply", creased_plane(6000, 5));
-  expect_one_spacing(run({"info", in}),
-                     run({"filter", in, path("out.ply"), "--auto", "--backend", "reference"}), "");
+  expect_one_spacing(run({"info", in}), run({"filter", in, path("out.ply"), "--auto", "--backend", "reference"}), "");
 }
 
 TEST_F(CliTest, InfoAndAutoBothHonourTheRadiusProperty) {

@@ -382,6 +382,5 @@ INSTANTIATE_TEST_SUITE_P(PointFile, EveryEncoding,
                          ::testing::Values(Encoding::ascii, Encoding::little_endian, Encoding::big_endian),
                          [](const auto& info) { return encoding_name(info.param); });
 
-
 }  // namespace
 }  // namespace pnf

@@ -20,7 +20,6 @@ struct DemoFlags {
   DeviceFlags device;
 };
 
-
 struct ErrorStats {
   double mean = 0, median = 0, p90 = 0;
 };
@@ -68,8 +67,8 @@ int run_demo(const DemoFlags& flags) {
     std::printf("  noise        positions %.2g spacings along the normal, normals %.3g degrees per axis\n",
                 flags.noise.position, flags.noise.normal_degrees);
     std::printf("  filter       paper defaults: sigma_f %g, sigma_g %g %s (%.3g, %.3g model units), %d passes\n",
-                params.sigma_f, params.sigma_g, params.units == Units::radius ? "mean radii" : "model units",
-                s.sigma_f, s.sigma_g, params.iterations);
+                params.sigma_f, params.sigma_g, params.units == Units::radius ? "mean radii" : "model units", s.sigma_f,
+                s.sigma_g, params.iterations);
     std::printf("  device       %s\n", s.device.c_str());
     std::printf("  neighbours   %.1f per point; lists %.2f s; passes", s.neighbours_mean, s.neighbour_seconds);
     for (double t : s.pass_seconds) std::printf(" %.3f", t);

@@ -58,8 +58,9 @@ int run_estimate(const EstimateFlags& flags) {
     if (!flags.quiet) {
       // estimate_normals clamps k to N (N >= 3 here, or it would have thrown).
       const std::size_t k = std::min(std::size_t(params.k), normals.size());
-      std::fprintf(stderr, "pnf estimate: %zu points, PCA over %zu nearest points (itself included), oriented by %s, "
-                           "%.2f s%s\n",
+      std::fprintf(stderr,
+                   "pnf estimate: %zu points, PCA over %zu nearest points (itself included), oriented by %s, "
+                   "%.2f s%s\n",
                    normals.size(), k, to_string(params.orientation), seconds,
                    replaced ? " (replaced the file's normals)" : "");
       if (curvature) std::fprintf(stderr, "  curvature    the surface variation of each fit, as PCL computes it\n");

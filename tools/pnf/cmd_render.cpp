@@ -17,7 +17,6 @@
 namespace pnf::cli {
 namespace {
 
-
 // Splits "a,b,c" into exactly `count` finite numbers; false when it is anything else.
 bool parse_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
   out.clear();

@@ -27,7 +27,7 @@ namespace detail {
 template <typename Pointer>
 struct StridedRows {
   Pointer data = nullptr;
-  std::size_t count = 0;                // N rows
+  std::size_t count = 0;  // N rows
   ScalarType type = ScalarType::float64;
   std::ptrdiff_t row_stride = 0;        // bytes from row i to row i + 1; 0 means packed (3 elements)
   std::ptrdiff_t component_stride = 0;  // bytes from x to y to z within a row; 0 means packed

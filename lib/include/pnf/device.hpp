@@ -62,13 +62,12 @@ struct DeviceInfo {
 inline constexpr const char* kDeviceEnvironmentVariable = "PNF_DEVICE";
 
 // Every device of every OpenCL platform, in platform then device order, with `selected` set on
-// the one that `selector` picks (read as Device::parse reads it; "reference" selects none). Selector syntax (docs/method.md, "Devices"): "cpu", "gpu", "accelerator",
-// "P:D" (platform and device index), or a case-insensitive piece of the platform or device name
-// or vendor (so "pocl" finds PoCL, whose platform is named "Portable Computing Language").
-// An empty selector means the PNF_DEVICE variable, and if that is unset or empty: the first GPU,
-// else the first CPU. No platform at all gives an empty list; a selector that matches nothing
-// leaves every `selected` false (pnf::NormalFilter then throws an error listing the devices).
-// Thread safety: may be called from any thread.
+// the one that `selector` picks (read as Device::parse reads it; "reference" selects none). Selector syntax
+// (docs/method.md, "Devices"): "cpu", "gpu", "accelerator", "P:D" (platform and device index), or a case-insensitive
+// piece of the platform or device name or vendor (so "pocl" finds PoCL, whose platform is named "Portable Computing
+// Language"). An empty selector means the PNF_DEVICE variable, and if that is unset or empty: the first GPU, else the
+// first CPU. No platform at all gives an empty list; a selector that matches nothing leaves every `selected` false
+// (pnf::NormalFilter then throws an error listing the devices). Thread safety: may be called from any thread.
 std::vector<DeviceInfo> list_devices(const std::string& selector = "");
 
 // The selector actually in force: `selector` if not empty, else the PNF_DEVICE variable, else "".

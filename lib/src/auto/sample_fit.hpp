@@ -13,10 +13,10 @@ namespace pnf::detail {
 struct SampleFit {
   bool ok = false;
   double area_spacing = 0;  // sqrt(pi rho^2 / count in the cylinder)
-  double residual = 0;    // RMS distance to the quadric, corrected for the 6 fitted coefficients
-  double angle_deg = -1;  // input normal vs quadric normal at the sample, as lines
-  double radius = 0;      // rho
-  double curvature = 0;   // the quadric's largest principal curvature magnitude, 1 / model units
+  double residual = 0;      // RMS distance to the quadric, corrected for the 6 fitted coefficients
+  double angle_deg = -1;    // input normal vs quadric normal at the sample, as lines
+  double radius = 0;        // rho
+  double curvature = 0;     // the quadric's largest principal curvature magnitude, 1 / model units
   // Sums over the points within kCorrelationReachSpacings of the sample, of e_sample . e_point
   // and |e_sample| |e_point|, e being an input normal minus the quadric's normal at that point.
   double error_dot = 0;

@@ -95,8 +95,8 @@ void report(const ProgressCallback& progress, ProgressStage stage, Clock::time_p
   if (!progress) return;
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (!progress(PassProgress{0, 0, seconds, stage, fraction})) {
-    throw Error(ErrorCode::cancelled, std::string("estimate_normals cancelled during the ") + to_string(stage) +
-                                          " stage");
+    throw Error(ErrorCode::cancelled,
+                std::string("estimate_normals cancelled during the ") + to_string(stage) + " stage");
   }
 }
 

@@ -188,7 +188,8 @@ class PcdReader {
         if (status == ByteSource::LineStatus::end_of_file) return false;
         ++line_number;
         if (status == ByteSource::LineStatus::too_long) {
-          fail("line " + std::to_string(line_number) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) + " bytes");
+          fail("line " + std::to_string(line_number) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) +
+               " bytes");
         }
         split_tokens(line, tokens);
         if (!tokens.empty()) return true;

@@ -305,7 +305,8 @@ class PlyReader {
       if (status == ByteSource::LineStatus::end_of_file) return false;
       ++line_number_;
       if (status == ByteSource::LineStatus::too_long) {
-        fail("line " + std::to_string(line_number_) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) + " bytes");
+        fail("line " + std::to_string(line_number_) + ": longer than " + std::to_string(ByteSource::kMaxBodyLine) +
+             " bytes");
       }
       split_tokens(line_, tokens_);
       if (!tokens_.empty()) return true;

@@ -54,11 +54,11 @@ void locate_vertex_fields(PointFile::Impl& impl, const std::string& path);
 
 // Which rows are invalid points rather than errors: kept, passed through and not filtered.
 enum class InvalidRows {
-  none,                 // every NaN is an error (text files, distributed PLY slices)
+  none,  // every NaN is an error (text files, distributed PLY slices)
   // PLY: x, y and z all NaN (PCL's PLY writer's invalid point), or a NaN coordinate with a NaN
   // normal (pnf's, for an invalid PCD point written as PLY); a NaN anywhere else is an error
   nan_point,
-  any_nan_coordinate,   // PCD: a NaN coordinate, PCL's mark of an invalid point
+  any_nan_coordinate,  // PCD: a NaN coordinate, PCL's mark of an invalid point
 };
 
 // Checks that every position and normal is finite and every normal non-zero. `row_lines`

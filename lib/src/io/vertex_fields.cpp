@@ -86,9 +86,9 @@ void check_vertices(PointFile::Impl& impl, const std::string& path, const std::v
   const auto fail = [&](std::size_t vertex, const std::string& what) {
     std::string where = path + ": ";
     if (vertex < row_lines.size()) where += "line " + std::to_string(row_lines[vertex]) + ", ";
-    throw Error(ErrorCode::invalid_input,
-                where + (invalid_rows == InvalidRows::any_nan_coordinate ? "point " : "vertex ") +
-                    std::to_string(vertex) + ": " + what);
+    throw Error(ErrorCode::invalid_input, where +
+                                              (invalid_rows == InvalidRows::any_nan_coordinate ? "point " : "vertex ") +
+                                              std::to_string(vertex) + ": " + what);
   };
   const auto load = [&](std::size_t property) {
     return load_as_double(element.properties[property].type, row + layout.offset(property));

@@ -5,8 +5,8 @@
 
 #include "agreement.hpp"
 #include "auto/judged_passes.hpp"
-#include "filter_engine.hpp"
 #include "auto/surface_judge.hpp"
+#include "filter_engine.hpp"
 #include "judged_run.hpp"
 #include "own_comm.hpp"
 #include "pnf/choose_filter_params.hpp"

@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-
 namespace pnf::mpi::detail {
 
 Device choose_device(MPI_Comm comm, const Device& requested) {
