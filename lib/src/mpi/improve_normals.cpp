@@ -9,6 +9,7 @@
 #include <memory>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "agreement.hpp"
@@ -209,10 +210,15 @@ std::vector<double> owned_twin_rows(MPI_Comm comm, const CloudView& local, const
     return order;
   };
   const std::vector<std::size_t> mine = by_gid(owned.gids), theirs = by_gid(twin.gids);
+  if (theirs.size() != mine.size()) {
+    throw std::logic_error("internal error: this rank owns " + std::to_string(mine.size()) + " points of the run and " +
+                           std::to_string(theirs.size()) + " of its twin");
+  }
   std::vector<double> rows(3 * owned.size());
   for (std::size_t j = 0; j < mine.size(); ++j) {
-    if (j >= theirs.size() || owned.gids[mine[j]] != twin.gids[theirs[j]]) {
-      throw std::logic_error("the twin run's points went to other ranks than the run's");
+    if (owned.gids[mine[j]] != twin.gids[theirs[j]]) {
+      throw std::logic_error("internal error: the twin run's points went to other ranks than the run's (global id " +
+                             std::to_string(owned.gids[mine[j]]) + ")");
     }
     for (int c = 0; c < 3; ++c) rows[3 * mine[j] + std::size_t(c)] = twin.normals[3 * theirs[j] + std::size_t(c)];
   }
