@@ -1,10 +1,11 @@
 // pnf::mpi::filter_file (pnf/mpi.hpp) under `mpirun -np P` (P = 1 .. 4): a file filtered across
 // the ranks in one call against one process's run on the same file; the pair limit of the
 // whole job; a cancel before the commit leaves OUT untouched; a killed job's staging folder is
-// removed by the next run.
+// removed by the next run; OUT a link to a private file.
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -212,6 +213,34 @@ TEST(FilterFile, NextRunRemovesAKilledJobsStagingFolder) {
     ::close(held);
     EXPECT_EQ(mpi::detail::remove_stale_staging(out.string()), 1);
     EXPECT_EQ(others(folder, {"house.ply", "out.ply"}), std::vector<std::string>{});
+  }
+}
+
+// OUT a symbolic link to a private file: the file it leads to is replaced, keeping its
+// permission bits, and the link stays (as one process's write does: AtomicWrite's tests).
+TEST(FilterFile, WritesThroughALinkAndKeepsThePermissions) {
+  const fs::path folder = work_folder("link");
+  const fs::path in = house_file(folder);
+  const fs::path real = folder / "data" / "real.ply", link = folder / "out.ply";
+  if (rank() == 0) {
+    fs::create_directories(folder / "data");
+    std::ofstream(real) << "old";
+    ASSERT_EQ(::chmod(real.c_str(), 0600), 0);
+    fs::create_symlink("data/real.ply", link);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  FilterFileOptions o = reference_run();
+  o.params.iterations = 1;
+  mpi::filter_file(MPI_COMM_WORLD, in.string(), link.string(), o);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) {
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_EQ(read_point_file(real.string()).size(), read_point_file(in.string()).size());
+    struct stat status {};
+    ASSERT_EQ(::stat(real.c_str(), &status), 0);
+    EXPECT_EQ(status.st_mode & 07777, mode_t(0600));
+    EXPECT_EQ(others(folder / "data", {"real.ply"}), std::vector<std::string>{});
+    EXPECT_EQ(others(folder, {"house.ply", "out.ply", "data"}), std::vector<std::string>{});
   }
 }
 

@@ -1,6 +1,7 @@
 #include "atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <filesystem>
 
 #include "pnf/error.hpp"
+#include "write_target.hpp"
 
 namespace pnf {
 namespace {
@@ -25,7 +27,9 @@ std::atomic<unsigned> temporary_counter{0};
 }  // namespace
 
 AtomicFile::AtomicFile(const std::string& path) : path_(path) {
-  const std::filesystem::path target(path);
+  const detail::WriteTarget replaced = detail::write_target(path);
+  target_path_ = replaced.path;
+  const std::filesystem::path target(target_path_);
   std::filesystem::path folder = target.parent_path();
   if (folder.empty()) folder = ".";
   int error_number = 0;
@@ -34,7 +38,8 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path) {
     const std::string name = "." + target.filename().string() + ".pnf-tmp-" + std::to_string(::getpid()) + "-" +
                              std::to_string(temporary_counter.fetch_add(1));
     temporary_path_ = (folder / name).string();
-    // 0666 so that the final file gets the usual permissions after the umask.
+    // 0666 so that a new file gets the usual permissions after the umask; a replaced file's
+    // own are set below.
     descriptor_ = ::open(temporary_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (descriptor_ >= 0) break;
     error_number = errno;
@@ -43,6 +48,9 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path) {
   if (descriptor_ < 0) {
     throw Error(ErrorCode::io, "cannot write '" + path + "': cannot create a file in '" + folder.string() +
                                    "': " + std::strerror(error_number));
+  }
+  if (replaced.exists && ::fchmod(descriptor_, replaced.mode) != 0) {
+    fail("cannot give the new file the permissions of the one it replaces", errno);
   }
   buffer_.resize(kBufferSize);
 }
@@ -90,7 +98,7 @@ void AtomicFile::commit() {
   const int descriptor = descriptor_;
   descriptor_ = -1;
   if (::close(descriptor) != 0) fail("close failed", errno);
-  if (std::rename(temporary_path_.c_str(), path_.c_str()) != 0) {
+  if (std::rename(temporary_path_.c_str(), target_path_.c_str()) != 0) {
     fail("cannot rename '" + temporary_path_ + "' to it", errno);
   }
   committed_ = true;

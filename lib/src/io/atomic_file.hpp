@@ -1,6 +1,8 @@
 // AtomicFile — writes a file through a temporary file in the same folder that is renamed over
 // the target on commit(), so that readers see either the old file or the whole new one. If
-// commit() is not reached (an exception, an early return), the temporary file is removed.
+// commit() is not reached (an exception, an early return), the temporary file is removed. The
+// target is the file a symbolic link at the path leads to, and a replaced file keeps its
+// permission bits (write_target.hpp).
 #pragma once
 
 #include <cstddef>
@@ -12,8 +14,8 @@ namespace pnf {
 
 class AtomicFile {
  public:
-  // Creates the temporary file next to `path`. Throws io naming `path`, the folder and the OS
-  // reason when that fails.
+  // Creates the temporary file next to the target. Throws io naming `path`, the folder and the
+  // OS reason when that fails, or when the target is not a regular file.
   explicit AtomicFile(const std::string& path);
   // Removes the temporary file unless commit() succeeded. Never throws.
   ~AtomicFile();
@@ -32,7 +34,8 @@ class AtomicFile {
   void flush();
   [[noreturn]] void fail(const std::string& what, int error_number);
 
-  std::string path_;
+  std::string path_;         // as given, for the messages
+  std::string target_path_;  // what the rename replaces: path_, or where its links lead (write_target.hpp)
   std::string temporary_path_;
   int descriptor_ = -1;
   bool committed_ = false;

@@ -11,4 +11,5 @@ list(APPEND PNF_IO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/io/point_file.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/io/row_layout.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/io/text_points.cpp
-  ${PROJECT_SOURCE_DIR}/lib/src/io/vertex_fields.cpp)
+  ${PROJECT_SOURCE_DIR}/lib/src/io/vertex_fields.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/io/write_target.cpp)

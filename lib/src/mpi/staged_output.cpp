@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "pnf/error.hpp"
+#include "write_target.hpp"
 
 namespace pnf::mpi::detail {
 namespace {
@@ -61,10 +62,14 @@ StagedOutput::StagedOutput(const Agreement& agree, MPI_Comm comm, const std::str
     : agree_(agree), out_(out_path) {
   agree_.run([&] {
     if (agree_.rank() != 0) return;
-    remove_stale_staging(out_path);
-    const fs::path folder = folder_of(out_path);
+    // The file replaced: where a link at OUT leads, with its permission bits kept.
+    const pnf::detail::WriteTarget replaced = pnf::detail::write_target(out_path);
+    target_ = replaced.path;
+    if (replaced.exists) mode_ = replaced.mode;
+    remove_stale_staging(target_);
+    const fs::path folder = folder_of(target_);
     for (int attempt = 0; attempt < kCreateAttempts && lock_ < 0; ++attempt) {
-      std::string pattern = (folder / (staging_prefix(out_path) + std::to_string(::getpid()) + "-XXXXXX")).string();
+      std::string pattern = (folder / (staging_prefix(target_) + std::to_string(::getpid()) + "-XXXXXX")).string();
       if (::mkdtemp(pattern.data()) == nullptr) {
         io_error(out_path, "cannot create a staging folder in " + folder.string(), errno);
       }
@@ -101,9 +106,11 @@ void StagedOutput::commit(const ProgressCallback& progress, int pass, int passes
     if (!go_on) throw Error(ErrorCode::cancelled, "cancelled before " + out_ + " was written; it is untouched");
   });
   agree_.run([&] {
-    if (agree_.rank() == 0 && std::rename(file_.c_str(), out_.c_str()) != 0) {
-      io_error(out_, "cannot rename " + file_ + " to it", errno);
+    if (agree_.rank() != 0) return;
+    if (mode_ >= 0 && ::chmod(file_.c_str(), mode_t(mode_)) != 0) {
+      io_error(out_, "cannot give " + file_ + " the permissions of the file it replaces", errno);
     }
+    if (std::rename(file_.c_str(), target_.c_str()) != 0) io_error(out_, "cannot rename " + file_ + " to it", errno);
   });
 }
 

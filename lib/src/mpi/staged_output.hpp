@@ -1,4 +1,6 @@
-// Where a distributed run writes OUT before it takes OUT's name: a private folder beside OUT,
+// Where a distributed run writes OUT before it takes OUT's name: a private folder beside OUT (or
+// beside the file a symbolic link at OUT leads to, which is the file replaced, keeping its
+// permission bits: write_target.hpp),
 // ".OUT.pnf-mpi-PID-XXXXXX" (PID: rank 0's process id), that rank 0 creates and holds an
 // exclusive lock on (flock) until the job ends. The file is written inside it under OUT's own
 // name and renamed over OUT on commit(), so OUT is the old file or the whole new one. The folder
@@ -37,7 +39,9 @@ class StagedOutput {
  private:
   const Agreement& agree_;
   std::string out_, folder_, file_;
-  int lock_ = -1;  // rank 0: the folder, open and flock'ed
+  std::string target_;  // rank 0: the file replaced, OUT or where its links lead (write_target.hpp)
+  long mode_ = -1;      // rank 0: that file's permission bits, where it exists
+  int lock_ = -1;       // rank 0: the folder, open and flock'ed
 };
 
 // Removes the stale staging folders (and files, from older versions) of `out_path`: entries
