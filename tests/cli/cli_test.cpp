@@ -210,6 +210,20 @@ TEST_F(CliTest, FilterKeepsPointsWithoutNormalsAsTheyWere) {
   }
   EXPECT_EQ(out.cloud().positions, kept.positions);
   EXPECT_EQ(out.cloud().normals, reference_filter()->run(kept).normals);
+  // The summary says what became of those rows: kept in place here; left out of a text OUT,
+  // which cannot hold NaN (it said "kept" there too).
+  EXPECT_NE(r.err.find("kept         3 points without normals (NaN) as they were"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("kept         1 invalid points (a NaN coordinate) as they were"), std::string::npos) << r.err;
+  const CliRun text_run = run({"filter", path("pcl.pcd"), path("out.xyz"), "--backend", "reference"});
+  ASSERT_EQ(text_run.exit_code, 0) << text_run.describe();
+  EXPECT_EQ(read_point_file(path("out.xyz")).size(), 396u);
+  EXPECT_NE(text_run.err.find("left out     3 points without normals (NaN) (a text file cannot hold NaN)"),
+            std::string::npos)
+      << text_run.err;
+  EXPECT_NE(text_run.err.find("left out     1 invalid points (a NaN coordinate) (a text file cannot hold NaN)"),
+            std::string::npos)
+      << text_run.err;
+  EXPECT_EQ(text_run.err.find("kept "), std::string::npos) << text_run.err;
 }
 
 // The bar is drawn only on a terminal: run through script(1), which gives the tool a

@@ -153,6 +153,22 @@ FilterOptions DeviceFlags::options() const {
   return o;
 }
 
+void print_rows_not_filtered(std::size_t without_normals, std::size_t invalid, const std::string& out) {
+  if (without_normals == 0 && invalid == 0) return;
+  const PointFileFormat format = point_file_format(out);
+  const bool text = format != PointFileFormat::ply && format != PointFileFormat::pcd;
+  auto line = [&](std::size_t count, const char* what) {
+    if (count == 0) return;
+    if (text) {
+      std::fprintf(stderr, "  left out     %zu %s (a text file cannot hold NaN)\n", count, what);
+    } else {
+      std::fprintf(stderr, "  kept         %zu %s as they were\n", count, what);
+    }
+  };
+  line(without_normals, "points without normals (NaN)");
+  line(invalid, "invalid points (a NaN coordinate)");
+}
+
 void print_auto(const AutoChoice& choice, double seconds) {
   const DataEstimate& e = choice.estimate;
   std::fprintf(stderr,

@@ -66,6 +66,11 @@ void add_pcd_data_option(CLI::App& app, std::string& value);
 // cross-validated ("rule would take"), and the choice; `seconds` the time it took.
 void print_auto(const AutoChoice& choice, double seconds);
 
+// `pnf filter`'s summary line for the rows it did not filter: points without normals (NaN) and
+// invalid points (a NaN coordinate), kept in place by a PLY or PCD OUT and left out of a text
+// one, which cannot hold NaN (README, "Formats"). Prints nothing when both are 0.
+void print_rows_not_filtered(std::size_t without_normals, std::size_t invalid, const std::string& out);
+
 // The WriteOptions for --ascii and --pcd-data (empty: not given).
 WriteOptions write_options(bool ascii, const std::string& pcd_data);
 

@@ -136,9 +136,8 @@ int run_filter(const FilterFlags& flags) {
     write_point_file(flags.out, file, o.write);
     if (!flags.quiet) {
       print_summary(flags, params, result.summary, read_s, seconds_since(t), passes_kept);
-      if (file.without_normals() > 0) {
-        std::fprintf(stderr, "  kept         %zu points without normals (NaN) as they were\n", file.without_normals());
-      }
+      print_rows_not_filtered(file.without_normals(), file.size() - file.valid_count() - file.without_normals(),
+                              flags.out);
     }
     return int(kOk);
   });

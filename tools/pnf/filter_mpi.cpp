@@ -42,9 +42,7 @@ void print_summary(const std::string& in, const std::string& out, const mpi::Fil
     std::fprintf(stderr, " deg\n");
   }
   std::fprintf(stderr, "  wrote        %s (%.2f s)\n", out.c_str(), run.write_seconds);
-  if (run.kept_without_normals > 0) {
-    std::fprintf(stderr, "  kept         %zu points without normals (NaN) as they were\n", run.kept_without_normals);
-  }
+  print_rows_not_filtered(run.kept_without_normals, run.invalid_rows, out);
 }
 
 Stage stage_of(mpi::FileStep step) {

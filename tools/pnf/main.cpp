@@ -12,14 +12,7 @@
 
 namespace pnf::cli {
 
-void check_output_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".ply" && ext != ".pcd" && ext != ".xyz" && ext != ".xyzn" && ext != ".pwn") {
-    throw Error(ErrorCode::invalid_argument,
-                path + ": unknown output format '" + ext + "'; use .ply, .pcd, .xyz, .xyzn or .pwn");
-  }
-}
+void check_output_extension(const std::string& path) { point_file_format(path); }
 
 void check_not_overwriting_input(const std::string& in, const std::string& out, bool in_place) {
   std::error_code ec;

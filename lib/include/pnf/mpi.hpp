@@ -110,8 +110,9 @@ struct FileRun {
   bool sliced = false;  // each rank read and wrote its own rows (binary PLY in and out); else rank 0
                         // read and wrote the file and the points were scattered and gathered
   double read_seconds = 0, auto_seconds = 0, write_seconds = 0;  // the slowest rank's
-  // Rank 0: points kept as they were (NaN normals, PCD), as one process reports them.
-  std::size_t kept_without_normals = 0;
+  // Rank 0: points not filtered, as one process reports them: without normals (NaN normals) and
+  // invalid points (a NaN coordinate); kept in place in a PLY or PCD OUT, left out of a text one.
+  std::size_t kept_without_normals = 0, invalid_rows = 0;
 };
 
 // `mpirun -np P pnf filter IN OUT` in one call: reads `in_path`, filters it across the ranks of

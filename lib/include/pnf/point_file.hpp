@@ -49,6 +49,11 @@ enum class PointFileFormat {
   pcd,   // .pcd: PCL's Point Cloud Data, v0.7 (read and write) or v0.6 (read)
 };
 
+// The format a path's extension names (case-insensitive), as read_point_file and
+// write_point_file choose it. Throws Error(invalid_argument) naming the path and the extension
+// for any other.
+PointFileFormat point_file_format(const std::string& path);
+
 // The body encoding named on a PCD header's DATA line.
 enum class PcdData { ascii, binary, binary_compressed };
 

@@ -25,19 +25,6 @@
 namespace pnf {
 namespace {
 
-PointFileFormat format_from_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".ply") return PointFileFormat::ply;
-  if (extension == ".xyz") return PointFileFormat::xyz;
-  if (extension == ".xyzn") return PointFileFormat::xyzn;
-  if (extension == ".pwn") return PointFileFormat::pwn;
-  if (extension == ".pcd") return PointFileFormat::pcd;
-  throw Error(ErrorCode::invalid_argument,
-              path + ": unknown point file extension '" + extension + "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
-}
-
 PlyProperty real_property(const char* name, PlyScalar type) {
   PlyProperty property;
   property.name = name;
@@ -176,6 +163,19 @@ void for_each_vertex_row(PointFile::Impl& impl, std::size_t points, Store&& stor
 }
 
 }  // namespace
+
+PointFileFormat point_file_format(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".ply") return PointFileFormat::ply;
+  if (extension == ".xyz") return PointFileFormat::xyz;
+  if (extension == ".xyzn") return PointFileFormat::xyzn;
+  if (extension == ".pwn") return PointFileFormat::pwn;
+  if (extension == ".pcd") return PointFileFormat::pcd;
+  throw Error(ErrorCode::invalid_argument,
+              path + ": unknown point file extension '" + extension + "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
+}
 
 PointFile::PointFile() : PointFile(PointCloud{}) {}
 
@@ -386,14 +386,14 @@ const std::vector<unsigned char>& PointFile::element_values(std::size_t element)
 }
 
 PointFile read_point_file(const std::string& path, const ReadOptions& options) {
-  const PointFileFormat format = format_from_extension(path);
+  const PointFileFormat format = point_file_format(path);
   if (format == PointFileFormat::ply) return PointFile(read_ply(path, options));
   if (format == PointFileFormat::pcd) return PointFile(read_pcd(path, options));
   return PointFile(read_text_points(path, format, options));
 }
 
 void write_point_file(const std::string& path, const PointFile& file, const WriteOptions& options) {
-  const PointFileFormat format = format_from_extension(path);
+  const PointFileFormat format = point_file_format(path);
   const bool needs_normals = format == PointFileFormat::xyzn || format == PointFileFormat::pwn;
   if (needs_normals && !file.has_normals()) {
     throw Error(ErrorCode::invalid_argument,

@@ -126,6 +126,7 @@ FileRun filter_file(MPI_Comm caller_comm, const std::string& in_path, const std:
       }
       cloud = whole.cloud();
       run.kept_without_normals = whole.without_normals();
+      run.invalid_rows = whole.size() - whole.valid_count() - whole.without_normals();
     });
     local = scatter_cloud(comm, cloud, rank, ranks);
   }
