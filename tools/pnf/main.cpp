@@ -1,6 +1,4 @@
 // pnf: improve the normals of point models from the command line.
-#include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <string>
