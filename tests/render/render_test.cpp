@@ -270,6 +270,31 @@ TEST(RenderPoints, AGivenFrameSetsTheCamera) {
   EXPECT_NEAR(fg.x0 + fg.x1 + 1, 200, 2);
 }
 
+// Surfels far outside a given frame (an outlier billions of pixels away, a frame of 1e-300)
+// are clipped, not drawn: they once overflowed the pixel range's int (2^31 pixels a row, or a
+// write outside the picture). The picture matches the one without the far surfels.
+TEST(RenderPoints, SurfelsFarOutsideTheFrameAreClipped) {
+  PointCloud sphere = fibonacci_sphere(2000, 1.0, {0, 0, 0});
+  sphere.radii.assign(sphere.size(), 0.05);  // given, so that the outlier cannot move an estimate
+  RenderOptions options;
+  options.width = 64;
+  options.height = 48;
+  options.frame = BoundingBox{{-2, -2, -2}, {2, 2, 2}};
+  const Image plain = render_points(sphere, options);
+  for (double far : {1e9, -1e9, 1e20, -1e20, 1e300}) {
+    PointCloud with_outlier = sphere;
+    with_outlier.positions.push_back({far, far / 2, 0.5});
+    with_outlier.normals.push_back({0, 0, 1});
+    with_outlier.radii.push_back(0.05);
+    const Image image = render_points(with_outlier, options);
+    EXPECT_EQ(image.rgb, plain.rgb) << far;
+  }
+  options.frame = BoundingBox{{0, 0, 0}, {1e-300, 1e-300, 1e-300}};
+  const Image tiny = render_points(sphere, options);
+  EXPECT_EQ(tiny.width, options.width);
+  EXPECT_EQ(tiny.height, options.height);
+}
+
 TEST(RenderPoints, NormalsModeColoursByTheNormal) {
   const PointCloud sphere = fibonacci_sphere(20000, 1.0, {5, 5, 5});
   RenderOptions options;

@@ -104,6 +104,15 @@ struct Splat {
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
 };
 
+// The pixels [first, last] whose centres (index + 0.5) lie in [lo + 0.5, hi + 0.5], clipped to
+// 0 .. count - 1 in double before the conversion to int: a surfel far outside a given frame
+// (an outlier, a zoom) lies billions of pixels away, where the conversion would overflow (it
+// ran 2^31 pixels a row, or wrote outside the picture). first > last when none is in the picture.
+void pixel_span(double lo, double hi, int count, int& first, int& last) {
+  first = int(std::clamp(std::ceil(lo), 0.0, double(count)));
+  last = int(std::clamp(std::floor(hi), -1.0, count - 1.0));
+}
+
 void check_reference(const CloudView& cloud, const Vec3ArrayView& reference) {
   if (reference.count != cloud.size()) {
     throw Error(ErrorCode::invalid_input, "the reference normals number " + std::to_string(reference.count) +
@@ -190,15 +199,13 @@ Image render_points(const CloudView& cloud, const Vec3ArrayView& reference_norma
     s.depth = dot(p, cam.toward) * cam.scale;
     s.radius = std::max(radius_of(std::size_t(i)) * cam.scale, kMinPixelRadius);
     s.normal = {dot(w, cam.right), dot(w, cam.up), dot(w, cam.toward)};
-    if (std::fabs(s.normal[2]) >= kEdgeOn) {
+    if (std::fabs(s.normal[2]) >= kEdgeOn && std::isfinite(s.x) && std::isfinite(s.y) && std::isfinite(s.depth)) {
       // The projected ellipse's half extents: R sqrt(1 - n_x^2) across, R sqrt(1 - n_y^2) down.
       const double ex = s.radius * std::sqrt(std::max(0.0, 1 - s.normal[0] * s.normal[0]));
       const double ey = s.radius * std::sqrt(std::max(0.0, 1 - s.normal[1] * s.normal[1]));
       // Pixel x covers [x, x + 1) and has its centre at x + 0.5.
-      s.x0 = int(std::max(0.0, std::ceil(s.x - ex - 0.5)));
-      s.x1 = int(std::min(drawing_width - 1.0, std::floor(s.x + ex - 0.5)));
-      s.y0 = int(std::max(0.0, std::ceil(s.y - ey - 0.5)));
-      s.y1 = int(std::min(height - 1.0, std::floor(s.y + ey - 0.5)));
+      pixel_span(s.x - ex - 0.5, s.x + ex - 0.5, drawing_width, s.x0, s.x1);
+      pixel_span(s.y - ey - 0.5, s.y + ey - 0.5, height, s.y0, s.y1);
     }
     switch (options.mode) {
       case RenderMode::shaded: colours[i] = shade(s.normal, light, half, options); break;
