@@ -58,12 +58,39 @@ ProgressCallback python_progress(const py::object& callable, bool every_report, 
       } else if (p.stage == ProgressStage::pass) {
         answer = callable(p.pass, p.passes, p.seconds);
       }
-      return answer.ptr() != Py_False;
+      // "Returning False cancels": any false value, numpy's np.False_ (a comparison's result)
+      // included; None (no return) goes on, as does a report the callable was not called for.
+      if (!answer || answer.is_none()) return true;
+      const int truth = PyObject_IsTrue(answer.ptr());
+      if (truth < 0) throw py::error_already_set();
+      return truth != 0;
     } catch (...) {
       pending = std::current_exception();
       return false;
     }
   };
+}
+
+// Whether arrays `a` and `b` share an element. numpy's may_share_memory compares address ranges
+// only, so the normal columns of one (N, 6) array of positions and normals would overlap its
+// position columns; where the ranges meet, shares_memory settles it exactly, within a bounded
+// effort (a problem too hard for it counts as an overlap).
+// shares_memory's bound on the candidate solutions it tries: strided views of 2-D arrays solve in
+// a few; only exotic strides could need more.
+constexpr int kOverlapWork = 10000;
+
+bool overlap(const py::object& a, const py::object& b) {
+  const py::module_ numpy = py::module_::import("numpy");
+  if (!numpy.attr("may_share_memory")(a, b).cast<bool>()) return false;
+  try {
+    using namespace pybind11::literals;
+    return numpy.attr("shares_memory")(a, b, "max_work"_a = kOverlapWork).cast<bool>();
+  } catch (const py::error_already_set& e) {
+    // numpy.exceptions from numpy 1.25; numpy itself before (Debian 12's is 1.24).
+    const py::object exceptions = py::hasattr(numpy, "exceptions") ? numpy.attr("exceptions") : py::object(numpy);
+    if (!e.matches(exceptions.attr("TooHardError"))) throw;
+    return true;
+  }
 }
 
 // Runs `body` with the GIL released; a Python exception raised in the progress callback
@@ -128,9 +155,7 @@ py::object improve_normals(py::handle points, py::handle normals, double sigma_f
   if (!out_array.is_none()) {
     given_out.emplace(out_array, "out");
     check_same_size("out", given_out->size(), "points", p.size());
-    if (py::module_::import("numpy").attr("may_share_memory")(given_out->array(), p.array()).cast<bool>()) {
-      throw Error(ErrorCode::invalid_argument, "out must not overlap points");
-    }
+    if (overlap(given_out->array(), p.array())) throw Error(ErrorCode::invalid_argument, "out must not overlap points");
     out.array = py::reinterpret_borrow<py::object>(out_array);
     out.view = given_out->view();
   } else {

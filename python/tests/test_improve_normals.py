@@ -149,6 +149,12 @@ def test_out_receives_the_result_in_place(cube):
     own = normals.copy()  # the normals themselves: read before written
     pnf.improve_normals(points, own, backend="reference", out=own)
     np.testing.assert_array_equal(own, expected)
+    # One (N, 6) array of positions and normals, its normal columns as out: the columns share no
+    # element with the positions', though their address ranges interleave.
+    both = np.hstack([points, normals])
+    pnf.improve_normals(both[:, :3], both[:, 3:], backend="reference", out=both[:, 3:])
+    np.testing.assert_array_equal(both[:, 3:], expected)
+    np.testing.assert_array_equal(both[:, :3], points)
 
 
 def test_bad_out_raises_value_error(cube):
@@ -162,6 +168,9 @@ def test_bad_out_raises_value_error(cube):
     ]:
         with pytest.raises(ValueError, match=match):
             pnf.improve_normals(points, normals, backend="reference", out=bad)
+    both = np.hstack([points, normals])  # out's first two columns are the points' last two
+    with pytest.raises(ValueError, match="overlap points"):
+        pnf.improve_normals(both[:, :3], both[:, 3:], backend="reference", out=both[:, 1:4])
     frozen = np.zeros((len(points), 3))
     frozen.flags.writeable = False
     with pytest.raises(ValueError, match="writable"):
@@ -223,6 +232,14 @@ def test_progress_returning_false_cancels(cube):
     with pytest.raises(pnf.Cancelled):
         pnf.improve_normals(points, normals, backend="reference", progress=lambda *_: False)
     assert issubclass(pnf.Cancelled, RuntimeError)
+    # numpy's False too (a comparison's result), which once let the run go on.
+    with pytest.raises(pnf.Cancelled):
+        pnf.improve_normals(points, normals, backend="reference", progress=lambda *_: np.float64(1) > 2)
+    # None (no return) and numpy's True go on.
+    for keep_going in (lambda *_: None, lambda *_: np.float64(3) > 2):
+        np.testing.assert_array_equal(
+            pnf.improve_normals(points, normals, backend="reference", progress=keep_going),
+            pnf.improve_normals(points, normals, backend="reference"))
 
 
 def test_an_exception_in_progress_propagates(cube):
