@@ -336,6 +336,17 @@ TEST_P(NormalFilterTest, BadInputIsAClearError) {
   PointCloud zero = ball;
   zero.normals[13] = {0, 0, 0};
   EXPECT_EQ(run_error(*filter, zero), "invalid_input: vertex 13 has a zero-length normal");
+  // Finite, but not normalisable in double: it once came back NaN, unrefused.
+  PointCloud huge = ball;
+  huge.normals[21] = {1e200, 0, 1e200};
+  EXPECT_EQ(run_error(*filter, huge),
+            "invalid_input: vertex 21 has a normal too long to normalise in double (components from about 1e154); "
+            "scale it");
+  PointCloud tiny = ball;
+  tiny.normals[22] = {1e-300, 1e-300, 1e-300};
+  EXPECT_EQ(run_error(*filter, tiny),
+            "invalid_input: vertex 22 has a zero-length normal (its components, under about 1e-154, square to 0 in "
+            "double)");
   PointCloud no_normals = ball;
   no_normals.normals.clear();
   EXPECT_NE(run_error(*filter, no_normals).find("no normals; estimate them first"), std::string::npos);

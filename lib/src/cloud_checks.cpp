@@ -41,9 +41,16 @@ void check_cloud(const CloudView& cloud, const CloudRequirements& requirements) 
     if (normals) {
       const Vec3 normal = cloud.normals.at(i);
       if (!finite(normal)) fail("vertex " + std::to_string(i) + " has a NaN or infinite normal component");
-      // A normal this short has no direction left to keep after normalisation.
-      if (!(length(normal) > std::numeric_limits<double>::min())) {
-        fail("vertex " + std::to_string(i) + " has a zero-length normal");
+      // A normal this short has no direction left to keep after normalisation; one whose
+      // squared length overflows (components from about 1e154) would normalise to 0 or NaN.
+      const double normal_length = length(normal);
+      if (!(normal_length > std::numeric_limits<double>::min())) {
+        fail("vertex " + std::to_string(i) + " has a zero-length normal" +
+             (normal == Vec3{0, 0, 0} ? "" : " (its components, under about 1e-154, square to 0 in double)"));
+      }
+      if (!std::isfinite(normal_length)) {
+        fail("vertex " + std::to_string(i) +
+             " has a normal too long to normalise in double (components from about 1e154); scale it");
       }
     }
     if (cloud.has_radii()) {
