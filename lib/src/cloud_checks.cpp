@@ -55,7 +55,7 @@ void check_cloud(const CloudView& cloud, const CloudRequirements& requirements) 
     }
     if (cloud.has_radii()) {
       const double radius = cloud.radii.get(i);
-      if (!(std::isfinite(radius) && radius > 0)) {
+      if (!valid_radius(radius)) {
         fail("vertex " + std::to_string(i) + " has radius " + std::to_string(radius) + "; must be finite and > 0");
       }
     }

@@ -3,6 +3,7 @@
 // bad value are the same everywhere.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -27,6 +28,10 @@ struct CloudRequirements {
 
   static CloudRequirements filter() { return {"", 0, true, true, std::size_t(4294967294u)}; }
 };
+
+// A surfel radius pnf can use: finite and > 0 (check_cloud's rule, and a point file's radius
+// property's: filter_file_cloud.hpp).
+inline bool valid_radius(double radius) { return std::isfinite(radius) && radius > 0; }
 
 // Throws pnf::Error(invalid_input) naming the first offending vertex when: the cloud has fewer
 // than min_points points or more than max_points; normals are required and absent; normals or

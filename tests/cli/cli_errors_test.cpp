@@ -189,6 +189,28 @@ TEST_F(CliErrorTest, ZeroNormal) {
                         {"line 13", "vertex 2", "zero"});
 }
 
+// A bad radius property is named by the file's row and the file (row 1, without a normal, is
+// left out of the points filtered: the index among those, one lower, was named before); a given
+// mean radius or absolute units leave the property unread, so it is no error there.
+TEST_F(CliErrorTest, BadRadiusPropertyNamesItsRowUnlessItIsNotRead) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 36; ++i) {
+    const std::string xy = std::to_string(i % 6) + " " + std::to_string(i / 6) + " 0 ";
+    rows.push_back(xy + (i == 1 ? "nan nan nan" : "0 0 1") + (i == 20 ? " 0" : " 0.5"));
+  }
+  const std::string file = ascii_ply({"x", "y", "z", "nx", "ny", "nz", "radius"}, rows.size(), rows);
+  expect_filter_rejects("radius.ply", file, {"vertex 20 has radius 0;", "must be finite and > 0"});
+  for (const std::vector<std::string>& flags :
+       {std::vector<std::string>{"--radius", "0.5"}, std::vector<std::string>{"--units", "absolute"}}) {
+    std::vector<std::string> args = {"filter", path("radius.ply"), path("out.ply"), "--backend", "reference"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    const CliRun r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << r.describe();
+    EXPECT_EQ(read_point_file(path("out.ply")).size(), 36u) << flags[0];
+    std::filesystem::remove(path("out.ply"));
+  }
+}
+
 // In a binary file there are no lines: the vertex index is the place.
 TEST_F(CliErrorTest, NaNInBinaryFile) {
   const std::string file = write_cloud("nan_binary.ply", jittered_grid(4, 1.0, 0.2, 1));

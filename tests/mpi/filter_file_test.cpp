@@ -244,6 +244,37 @@ TEST(FilterFile, WritesThroughALinkAndKeepsThePermissions) {
   }
 }
 
+// A bad radius property: named by its row and the file on every rank, whether the ranks read
+// their own rows (binary PLY to PLY) or rank 0 reads the file (to .xyz); unread, and no error,
+// where the mean radius is given.
+TEST(FilterFile, BadRadiusPropertyNamesItsRowUnlessItIsNotRead) {
+  const fs::path folder = work_folder("radius");
+  const fs::path in = folder / "radius.ply";
+  PointCloud cloud = make_scanned_house(4000).cloud;
+  cloud.radii.assign(cloud.size(), 0.05);
+  const std::size_t bad = cloud.size() - 3;  // on the last rank
+  cloud.radii[bad] = 0;
+  if (rank() == 0) write_point_file(in.string(), PointFile(cloud));
+  MPI_Barrier(MPI_COMM_WORLD);
+  for (const char* out_name : {"out.ply", "out.xyz"}) {
+    const fs::path out = folder / out_name;
+    FilterFileOptions o = reference_run();
+    o.params.iterations = 1;
+    try {
+      mpi::filter_file(MPI_COMM_WORLD, in.string(), out.string(), o);
+      ADD_FAILURE() << out_name;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_input) << e.what();
+      const std::string expected = in.string() + ": vertex " + std::to_string(bad) + " has radius 0;";
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+    o.params.mean_radius = 0.05;
+    const mpi::FileRun run = mpi::filter_file(MPI_COMM_WORLD, in.string(), out.string(), o);
+    EXPECT_EQ(run.sliced, std::string(out_name) == "out.ply");
+    if (rank() == 0) EXPECT_EQ(read_point_file(out.string()).size(), cloud.size());
+  }
+}
+
 // What one process refuses before reading, every rank refuses alike.
 TEST(FilterFile, BadPathsAreRefusedOnEveryRank) {
   const fs::path folder = work_folder("paths");

@@ -110,7 +110,7 @@ int run_filter(const FilterFlags& flags) {
                                                 flags.in + " OUT` first");
     }
     stage = Stage::running;
-    const PointCloud cloud = file.cloud();
+    const PointCloud cloud = cloud_to_filter(file, flags.in, o);
     NormalFilter filter(o.options);
     FilterResult result;
     int passes_kept = -1;

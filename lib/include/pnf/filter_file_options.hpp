@@ -35,4 +35,14 @@ struct FilterFileOptions {
   }
 };
 
+// Whether a run with `options` reads the radius property: for the mean radius, where the sigmas
+// are in radius units and no mean radius is given, and with `automatic` (its estimate takes it).
+bool reads_radii(const FilterFileOptions& options);
+
+// The cloud `pnf filter` filters out of `file`, read from `path`: file.cloud(), without its radii
+// where the run does not read them (so a radius property that a given mean radius or absolute
+// units leave unread is no error), else with each radius checked finite and > 0: an
+// Error(invalid_input) naming `path` and the file's row (not the index among the valid points).
+PointCloud cloud_to_filter(const PointFile& file, const std::string& path, const FilterFileOptions& options);
+
 }  // namespace pnf

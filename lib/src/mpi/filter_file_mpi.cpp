@@ -1,14 +1,13 @@
 // pnf::mpi::filter_file: a point file filtered across the ranks (pnf/mpi.hpp): read (each rank
 // its rows, or rank 0 and a scatter), filter, the whole job's pair count, write (each rank its
 // rows, or a gather and rank 0) into a staging folder, commit.
-#include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "agreement.hpp"
+#include "filter_file_cloud.hpp"
 #include "own_comm.hpp"
 #include "ply_slices.hpp"
 #include "pnf/mpi.hpp"
@@ -21,19 +20,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
-
 // What the one-process `pnf filter` refuses before it reads anything.
 void check_paths(const std::string& in, const std::string& out, bool in_place) {
-  const std::string ext = lower_extension(out);
-  if (ext != ".ply" && ext != ".pcd" && ext != ".xyz" && ext != ".xyzn" && ext != ".pwn") {
-    throw Error(ErrorCode::invalid_argument,
-                out + ": unknown output format '" + ext + "'; use .ply, .pcd, .xyz, .xyzn or .pwn");
-  }
+  point_file_format(out);
   std::error_code ec;
   if (!in_place && std::filesystem::equivalent(in, out, ec)) {
     throw Error(ErrorCode::invalid_argument, out + " is the input file; pass --in-place to overwrite it");
@@ -105,15 +94,19 @@ FileRun filter_file(MPI_Comm caller_comm, const std::string& in_path, const std:
   auto t = Clock::now();
   detail::PlySliceLayout layout;
   agree.run([&] {
-    if (lower_extension(in_path) == ".ply") layout = detail::read_slice_layout(in_path);
+    if (point_file_format(in_path) == PointFileFormat::ply) layout = detail::read_slice_layout(in_path);
   });
-  run.sliced = layout.sliceable && lower_extension(out_path) == ".ply" && !options.write.ascii;
+  run.sliced = layout.sliceable && point_file_format(out_path) == PointFileFormat::ply && !options.write.ascii;
   detail::PlySlice slice;
   PointFile whole;  // rank 0, when not sliced
   PointCloud local;
   if (run.sliced) {
     agree.run([&] { slice = detail::read_slice(in_path, layout, rank, ranks); });
     local = std::move(slice.cloud);
+    // As cloud_to_filter does for the one process (no invalid rows here: a sliced file has none).
+    if (!reads_radii(options)) local.radii.clear();
+    agree.run(
+        [&] { pnf::detail::check_file_radii(local.radii, in_path, [&](std::size_t i) { return slice.first + i; }); });
   } else {
     PointCloud cloud;
     agree.run([&] {
@@ -124,7 +117,7 @@ FileRun filter_file(MPI_Comm caller_comm, const std::string& in_path, const std:
             ErrorCode::invalid_input,
             in_path + ": the vertices have no normals (nx ny nz); run `pnf estimate " + in_path + " OUT` first");
       }
-      cloud = whole.cloud();
+      cloud = cloud_to_filter(whole, in_path, options);
       run.kept_without_normals = whole.without_normals();
       run.invalid_rows = whole.size() - whole.valid_count() - whole.without_normals();
     });
