@@ -148,6 +148,22 @@ TEST_F(CliTest, InfoDescribesAPlyFile) {
     EXPECT_TRUE(contains(r.out, line)) << "no '" << line << "' in\n" << r.out;
   }
 
+  // Normals declared as integers: info says that filter cannot write into them, as filter then
+  // refuses (info said "pnf filter normalises them").
+  write_whole_file(path("char.ply"),
+                   "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                   "property char nx\nproperty char ny\nproperty char nz\nend_header\n"
+                   "0 0 0 0 0 100\n1 0 0 0 0 100\n0 1 0 0 0 100\n1 1 0 0 0 100\n0.5 0.5 0 0 0 100\n");
+  const CliRun chars = run({"info", path("char.ply")});
+  ASSERT_EQ(chars.exit_code, 0) << chars.describe();
+  EXPECT_TRUE(contains(chars.out,
+                       "normals      yes, declared 'char', an integer type: pnf filter and pnf estimate "
+                       "cannot write normals into them"))
+      << chars.out;
+  const CliRun refused = run({"filter", path("char.ply"), path("char_out.ply"), "--backend", "reference"});
+  EXPECT_EQ(refused.exit_code, 3) << refused.describe();
+  EXPECT_TRUE(contains(refused.err, "'char', an integer type that cannot hold normals")) << refused.err;
+
   write_whole_file(path("bare.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");
   const CliRun text = run({"info", path("bare.xyz")});
   ASSERT_EQ(text.exit_code, 0) << text.describe();
