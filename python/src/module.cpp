@@ -188,7 +188,7 @@ AutoChoice choose_params(py::handle points, py::handle normals, const std::optio
   }
   const CloudView view(p.view(), n ? n->view() : Vec3ArrayView{});
   // The device is no longer needed to choose (the passes that auto=True keeps are judged while it
-  // filters), but a bad name is still refused as before.
+  // filters); a malformed backend or selector is still refused as before, but no device is looked up.
   (void)filter_options(device, backend);
   std::exception_ptr pending;
   AutoChoice choice;

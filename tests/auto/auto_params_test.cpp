@@ -180,7 +180,16 @@ TEST(EstimateData, BadCloudsAreErrors) {
   }
   PointCloud line;
   for (int i = 0; i < 50; ++i) line.positions.push_back({double(i), 0, 0});
-  EXPECT_THROW(estimate_data(line), Error);
+  try {
+    estimate_data(line);
+    ADD_FAILURE() << "points on a line were fitted";
+  } catch (const Error& e) {
+    // The message says how many points there were and what a fit needs.
+    EXPECT_EQ(e.code(), ErrorCode::invalid_input);
+    EXPECT_NE(std::string(e.what()).find("no neighbourhood of the 50 points could be fitted"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("a fit needs 12 points"), std::string::npos) << e.what();
+  }
 }
 
 // A radius property wins: it is the mean radius, and the sigmas are converted to it.

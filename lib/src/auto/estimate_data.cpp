@@ -173,7 +173,10 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   if (chosen < 0) {
     throw Error(
         ErrorCode::invalid_input,
-        "estimate_data: no neighbourhood could be fitted with a surface (are the points on a line or one spot?)");
+        "estimate_data: no neighbourhood of the " + std::to_string(count) +
+            " points could be fitted with a surface (a fit needs 12 points within half its neighbourhood's radius "
+            "of the sample's normal axis): are the points on a line or one spot, or too few (a random patch of 20 "
+            "points has such a neighbourhood about half the time, of 25 nearly always)?");
   }
   // Features and normals are judged on the fits two scales up (16 times the points, twice the
   // radius). There a sharp edge inside the cylinder leaves a residual well above the noise, and
