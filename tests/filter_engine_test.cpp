@@ -182,6 +182,14 @@ TEST(FilterEngine, WorkPastTheTimeLimitIsRefusedFromAProbeWithTheNumbers) {
   }
   // Not a timing test: a refusal that took as long as the run would be no refusal at all.
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 60.0);
+  // A limit under a second is written as it was given (it read "the limit is 0 s").
+  options.max_seconds = 0.001;
+  try {
+    run_engine(*backend, options, ball, params, {});
+    FAIL() << "no error";
+  } catch (const pnf::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the limit is 0.001 s"), std::string::npos) << e.what();
+  }
 }
 
 TEST(FilterEngine, ARunTheProbeLetsThroughGivesTheUnprobedNormals) {

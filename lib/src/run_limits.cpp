@@ -23,7 +23,9 @@ std::string gib(double bytes) {
 
 std::string seconds_text(double seconds) {
   char text[64];
-  if (seconds < 120) {
+  if (seconds < 10) {
+    std::snprintf(text, sizeof text, "%.2g s", seconds);  // a limit of 0.001 s read "0 s"
+  } else if (seconds < 120) {
     std::snprintf(text, sizeof text, "%.0f s", seconds);
   } else if (seconds < 7200) {
     std::snprintf(text, sizeof text, "%.0f min", seconds / 60);

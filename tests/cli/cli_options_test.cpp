@@ -105,6 +105,18 @@ TEST_F(CliTest, RadiusMustBeFiniteAndPositive) {
     EXPECT_TRUE(contains(r.err, "--radius: must be finite and > 0, got " + value)) << r.err;
     EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
   }
+  // The other numeric flags' bounds, in the same words (CLI11's own range checks printed their
+  // upper bound, DBL_MAX, in 300 digits).
+  for (const std::vector<std::string>& flag :
+       {std::vector<std::string>{"--stop-change", "-1", "must be finite and >= 0, got -1"},
+        std::vector<std::string>{"--max-seconds", "-1", "must be finite and >= 0, got -1"},
+        std::vector<std::string>{"--memory-budget", "0", "must be finite and > 0, got 0"},
+        std::vector<std::string>{"--max-pairs", "0", "must be finite and > 0, got 0"}}) {
+    const CliRun r = run({"filter", in, path("out.ply"), "--backend", "reference", flag[0], flag[1]});
+    EXPECT_EQ(r.exit_code, 2) << r.describe();
+    EXPECT_TRUE(contains(r.err, flag[0] + ": " + flag[2])) << r.err;
+    EXPECT_LT(r.err.size(), 200u) << r.err;
+  }
   const CliRun given = run({"filter", in, path("given.ply"), "--backend", "reference", "--radius", "0.05"});
   EXPECT_EQ(given.exit_code, 0) << given.describe();
   EXPECT_TRUE(contains(given.err, "mean radius  0.05 (given)")) << given.err;

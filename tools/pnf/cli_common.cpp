@@ -96,18 +96,28 @@ int guarded(Stage& stage, const std::function<int()>& body) {
   }
 }
 
-CLI::Validator finite_positive() {
+namespace {
+
+// A validator of a finite number above `lowest` (or from it, with `or_equal`).
+CLI::Validator finite_from(double lowest, bool or_equal, const std::string& name) {
+  const std::string bound = std::string(or_equal ? ">= " : "> ") + (lowest == 0 ? "0" : std::to_string(lowest));
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [=](std::string& text) -> std::string {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value <= 0) {
-          return "must be finite and > 0, got " + text;
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value < lowest ||
+            (!or_equal && value == lowest)) {
+          return "must be finite and " + bound + ", got " + text;
         }
         return "";
       },
-      "> 0", "POSITIVE");
+      bound, name);
 }
+
+}  // namespace
+
+CLI::Validator finite_positive() { return finite_from(0, false, "POSITIVE"); }
+CLI::Validator finite_non_negative() { return finite_from(0, true, "NON_NEGATIVE"); }
 
 void add_pcd_data_option(CLI::App& app, std::string& value) {
   app.add_option("--pcd-data", value,

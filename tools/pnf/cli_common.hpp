@@ -57,6 +57,8 @@ struct DeviceFlags {
 // A check for a value that must be a finite number > 0 ("--radius: must be finite and > 0, got
 // 0"): CLI11's PositiveNumber would print its range up to DBL_MAX in full.
 CLI::Validator finite_positive();
+// The same for a finite number >= 0 ("--stop-change: must be finite and >= 0, got -1").
+CLI::Validator finite_non_negative();
 
 // --pcd-data ascii|binary|binary_compressed for the commands that write: the DATA encoding of a
 // .pcd OUT (default: the input's, binary for a non-PCD input; ascii with --ascii). Binds `value`.

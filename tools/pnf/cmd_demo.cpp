@@ -96,10 +96,10 @@ Command add_demo_command(CLI::App& parent) {
   app->add_option("--dir", flags->dir, "folder for house_noisy.ply and house_filtered.ply")->capture_default_str();
   app->add_option("--position-noise", flags->noise.position, "in sample spacings")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   app->add_option("--normal-noise", flags->noise.normal_degrees, "in degrees")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   app->add_option("--seed", flags->noise.seed, "random seed")->capture_default_str();
   flags->device.add_to(*app);
   return {app, [flags] { return run_demo(*flags); }};

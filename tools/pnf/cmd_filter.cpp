@@ -177,18 +177,18 @@ Command add_filter_command(CLI::App& parent) {
   app->add_option("--stop-change", flags->stop_change,
                   "end the passes once the mean change of the normals falls below DEG degrees (default: off; "
                   "--auto sets 0.01; 0 turns it off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_non_negative());
   app->add_option("--memory-budget", flags->memory_mib,
                   "MiB of neighbour lists kept at once; larger clouds run in chunks")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_positive())
       ->capture_default_str();
   app->add_option("--max-pairs", flags->max_pairs,
                   "refuse runs whose neighbour lists would pass this many pairs (estimated before they are built)")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_positive())
       ->capture_default_str();
   app->add_option("--max-seconds", flags->max_seconds,
                   "refuse runs estimated (by timing this device on a sample) to take longer; 0: no limit")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finite_non_negative())
       ->capture_default_str();
   flags->device.add_to(*app);
   app->add_flag("--ascii", flags->ascii, "write ascii PLY (default: binary little endian)");
