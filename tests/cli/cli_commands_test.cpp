@@ -164,6 +164,12 @@ TEST_F(CliTest, InfoDescribesAPlyFile) {
   EXPECT_EQ(refused.exit_code, 3) << refused.describe();
   EXPECT_TRUE(contains(refused.err, "'char', an integer type that cannot hold normals")) << refused.err;
 
+  // Four points: no mean radius can be estimated, and info says so (it printed 0).
+  write_whole_file(path("four.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n");
+  const CliRun four = run({"info", path("four.xyz")});
+  ASSERT_EQ(four.exit_code, 0) << four.describe();
+  EXPECT_TRUE(contains(four.out, "mean radius  none: cannot be estimated from 4 points")) << four.out;
+
   write_whole_file(path("bare.xyz"), "0 0 0\n1 0 0\n0 1 0\n1 1 0\n0.5 0.5 0\n");
   const CliRun text = run({"info", path("bare.xyz")});
   ASSERT_EQ(text.exit_code, 0) << text.describe();

@@ -260,7 +260,8 @@ TEST_F(CliErrorTest, OutputInAMissingFolder) {
   expect_clean_failure({"filter", in, out, "--backend", "reference"}, kExitOutput, {out});
 }
 
-// The rename over a folder fails after the data is written: the temporary file must go too.
+// A folder at OUT is refused before anything is written (once the rename failed after the
+// write, and the temporary file had to go too).
 TEST_F(CliErrorTest, OutputThatIsAFolder) {
   const std::string in = write_cloud("in.ply", jittered_grid(5, 1.0, 0.2, 1));
   std::filesystem::create_directory(path("out.ply"));

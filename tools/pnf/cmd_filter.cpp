@@ -54,9 +54,13 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
                s.neighbours_mean, s.neighbours_max, s.neighbour_pairs, s.chunks, s.chunks == 1 ? "" : "s");
   std::fprintf(stderr, "  device       %s [%s]\n", s.device.c_str(), s.backend.c_str());
   std::fprintf(stderr, "  lists        %.3f s, upload %.3f s\n", s.neighbour_seconds, s.upload_seconds);
-  std::fprintf(stderr, "  passes       %zu:", s.pass_seconds.size());
-  for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
-  std::fprintf(stderr, " s\n");
+  if (s.pass_seconds.empty()) {
+    std::fprintf(stderr, "  passes       none\n");  // as the distributed summary says it
+  } else {
+    std::fprintf(stderr, "  passes       %zu:", s.pass_seconds.size());
+    for (double t : s.pass_seconds) std::fprintf(stderr, " %.3f", t);
+    std::fprintf(stderr, " s\n");
+  }
   if (passes_kept >= 0) {
     std::fprintf(stderr, "  judged       %d of %d passes kept (%s); mean change per pass:", passes_kept, s.passes_run,
                  passes_kept == 0 ? "the input normals returned" : "judged the best, above");

@@ -95,9 +95,14 @@ int run_info(const std::string& path) {
       double sum = 0;
       for (double r : cloud.radii) sum += r;
       std::printf("  mean radius  %.6g (radius property)\n", sum / double(cloud.size()));
+    } else if (const double estimated = estimate_mean_radius(cloud.positions); estimated > 0) {
+      std::printf("  mean radius  %.6g (estimated: median mean distance to the 4 nearest points)\n", estimated);
     } else {
-      std::printf("  mean radius  %.6g (estimated: median mean distance to the 4 nearest points)\n",
-                  estimate_mean_radius(cloud.positions));
+      // As pnf filter then refuses to run without --radius or absolute units.
+      std::printf(
+          "  mean radius  none: cannot be estimated from %zu points (it needs at least 5, not most at one "
+          "place); give pnf filter --radius or absolute units\n",
+          cloud.size());
     }
     if (!cloud.has_normals()) {
       std::printf("  normals      none (run pnf estimate)\n");
