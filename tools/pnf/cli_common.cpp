@@ -111,7 +111,7 @@ CLI::Validator finite_from(double lowest, bool or_equal, const std::string& name
         }
         return "";
       },
-      bound, name);
+      name, name);
 }
 
 }  // namespace
