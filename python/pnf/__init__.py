@@ -77,6 +77,34 @@ def _whole(name: str, value: Any) -> int:
     return whole
 
 
+def _real(name: str, value: Any) -> float:
+    """`value` as a float, or TypeError naming `name` (pybind11's own error would print every
+    argument, arrays included, and name none). A string is not a number here."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be a number, got {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, got {value!r}") from None
+
+
+def _optional_real(name: str, value: Any) -> Optional[float]:
+    return None if value is None else _real(name, value)
+
+
+def _vec3(name: str, value: Any) -> Tuple[float, float, float]:
+    """`value` as three floats, or TypeError / ValueError naming `name`."""
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be three numbers, got {value!r}")
+    try:
+        items = list(value)
+    except TypeError:
+        raise TypeError(f"{name} must be three numbers, got {value!r}") from None
+    if len(items) != 3:
+        raise ValueError(f"{name} must be three numbers, got {len(items)}: {value!r}")
+    return (_real(name, items[0]), _real(name, items[1]), _real(name, items[2]))
+
+
 def _takes_stages(progress: Any) -> bool:
     """Whether a progress callable takes the keywords stage and fraction (or **kwargs), and so
     wants every report rather than the finished passes only."""
@@ -158,14 +186,15 @@ def improve_normals(
 
     Raises ValueError (bad parameters or data), DeviceError, Cancelled, KeyboardInterrupt.
     """
-    if mean_radius is not None and not (math.isfinite(float(mean_radius)) and float(mean_radius) > 0):
+    radius = _optional_real("mean_radius", mean_radius)
+    if radius is not None and not (math.isfinite(radius) and radius > 0):
         # The library reads 0 as "from the data"; here None says that, so 0 is a mistake.
         raise ValueError(f"invalid filter parameter mean_radius = {mean_radius}: must be finite and > 0 "
                          "(None: from the data)")
     return _pnf.improve_normals(
-        points, normals, float(sigma_f), float(sigma_g), _whole("iterations", iterations), units,
-        None if mean_radius is None else float(mean_radius), bool(auto),
-        device, backend, progress, _takes_stages(progress), radii, stop_change_deg, out, max_seconds,
+        points, normals, _real("sigma_f", sigma_f), _real("sigma_g", sigma_g), _whole("iterations", iterations),
+        units, radius, bool(auto), device, backend, progress, _takes_stages(progress), radii,
+        _optional_real("stop_change_deg", stop_change_deg), out, _optional_real("max_seconds", max_seconds),
     )
 
 
@@ -206,7 +235,7 @@ def estimate_normals(
     else float64. float32/float64 points are read in place.
     Ctrl-C interrupts it within about 0.2 s (KeyboardInterrupt).
     """
-    return _pnf.estimate_normals(points, _whole("k", k), orient, tuple(float(v) for v in viewpoint))
+    return _pnf.estimate_normals(points, _whole("k", k), orient, _vec3("viewpoint", viewpoint))
 
 
 def read(path: PathLike, *, check_normals: bool = True) -> PointFile:
@@ -290,9 +319,11 @@ def render(
     """
     frame_arg = None
     if frame is not None:
-        frame_arg = (tuple(float(v) for v in frame[0]), tuple(float(v) for v in frame[1]))
+        if isinstance(frame, (str, bytes)) or len(frame) != 2:
+            raise ValueError(f"frame must be ((xmin, ymin, zmin), (xmax, ymax, zmax)), got {frame!r}")
+        frame_arg = (_vec3("frame's minimum", frame[0]), _vec3("frame's maximum", frame[1]))
     return _pnf.render(
-        points, normals, radii, _whole("width", width), _whole("height", height), float(azimuth), float(elevation),
-        tuple(float(v) for v in light), mode, reference_normals, float(error_max), float(radius_scale),
-        frame_arg, _whole("threads", threads),
+        points, normals, radii, _whole("width", width), _whole("height", height), _real("azimuth", azimuth),
+        _real("elevation", elevation), _vec3("light", light), mode, reference_normals, _real("error_max", error_max),
+        _real("radius_scale", radius_scale), frame_arg, _whole("threads", threads),
     )

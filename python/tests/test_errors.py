@@ -60,6 +60,37 @@ def test_bad_parameters_raise_value_error(kwargs, match):
         pnf.improve_normals(P, N, **kwargs)
 
 
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: pnf.improve_normals(P, N, backend="reference", max_seconds="5"), "max_seconds must be a number"),
+        (lambda: pnf.improve_normals(P, N, backend="reference", stop_change_deg=[1]), "stop_change_deg must be"),
+        (lambda: pnf.improve_normals(P, N, backend="reference", sigma_f="4"), "sigma_f must be a number"),
+        (lambda: pnf.improve_normals(P, N, backend="reference", mean_radius="1"), "mean_radius must be a number"),
+        (lambda: pnf.estimate_normals(P, viewpoint=None), "viewpoint must be three numbers"),
+        (lambda: pnf.render(P, N, light=(1, "a", 2)), "light must be a number"),
+    ],
+)
+def test_arguments_of_the_wrong_type_raise_type_error_naming_them(call, match):
+    # pybind11's own error named no argument and printed every one, the arrays in full.
+    with pytest.raises(TypeError, match=match) as caught:
+        call()
+    assert len(str(caught.value)) < 200
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: pnf.estimate_normals(P, viewpoint=(0, 0)), "viewpoint must be three numbers, got 2"),
+        (lambda: pnf.render(P, N, light=(1, 2)), "light must be three numbers, got 2"),
+        (lambda: pnf.render(P, N, frame=((0, 0, 0),)), "frame must be"),
+    ],
+)
+def test_vectors_of_the_wrong_length_raise_value_error_naming_them(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
 def test_a_device_that_is_not_there_raises_device_error():
     with pytest.raises(pnf.DeviceError, match="no-such-device-anywhere") as caught:
         pnf.improve_normals(P, N, device="no-such-device-anywhere")
