@@ -252,6 +252,16 @@ TEST_F(CliErrorTest, InfoOnMalformedFile) {
   EXPECT_TRUE(contains(r.out, "1 NaN, infinite or zero")) << r.describe();
 }
 
+// --pcd-data for an OUT that is not .pcd is a usage error before any work (it was ignored);
+// the same for estimate.
+TEST_F(CliErrorTest, PcdDataForAnOutputThatIsNotPcd) {
+  const std::string in = write_cloud("in.ply", jittered_grid(5, 1.0, 0.2, 1));
+  for (const std::string command : {"filter", "estimate"}) {
+    expect_clean_failure({command, in, path("out.ply"), "--pcd-data", "binary"}, 2,
+                         {path("out.ply"), "a PCD DATA encoding (--pcd-data binary)", "not .pcd"});
+  }
+}
+
 // ---- output errors: exit 5, nothing created ---------------------------------------------------
 
 TEST_F(CliErrorTest, OutputInAMissingFolder) {

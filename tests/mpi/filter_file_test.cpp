@@ -287,6 +287,16 @@ TEST(FilterFile, BadPathsAreRefusedOnEveryRank) {
       EXPECT_EQ(e.code(), ErrorCode::invalid_argument) << e.what();
     }
   }
+  // A PCD DATA encoding for a PLY OUT (pnf filter --pcd-data), which the write would ignore.
+  FilterFileOptions pcd_data = reference_run();
+  pcd_data.write.pcd_data = PcdData::ascii;
+  try {
+    mpi::filter_file(MPI_COMM_WORLD, in.string(), (folder / "out.ply").string(), pcd_data);
+    ADD_FAILURE() << "--pcd-data for a PLY OUT";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not .pcd"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

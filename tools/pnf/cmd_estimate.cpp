@@ -29,6 +29,7 @@ int run_estimate(const EstimateFlags& flags) {
     if (!flags.viewpoint.empty()) params.viewpoint = {flags.viewpoint[0], flags.viewpoint[1], flags.viewpoint[2]};
     params.validate();
     check_output_extension(flags.out);
+    check_write_options(flags.out, write_options(flags.ascii, flags.pcd_data));
     check_not_overwriting_input(flags.in, flags.out, flags.in_place);
     ReadOptions read;
     read.check_normals = false;  // replaced below; PCL leaves NaN normals on points with few neighbours

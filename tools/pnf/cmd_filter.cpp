@@ -105,6 +105,7 @@ int run_filter(const FilterFlags& flags) {
     if (!o.automatic) params.validate();
     o.options.validate();
     check_output_extension(flags.out);
+    check_write_options(flags.out, o.write);
     check_not_overwriting_input(flags.in, flags.out, o.in_place);
     auto t = std::chrono::steady_clock::now();
     PointFile file = read_point_file(flags.in);

@@ -83,6 +83,11 @@ struct WriteOptions {
   std::optional<PcdData> pcd_data;
 };
 
+// Throws Error(invalid_argument) naming `path` when `options` ask its format for what it does not
+// have: a PCD DATA encoding (pcd_data) for a file that is not .pcd, which write_point_file
+// ignores; a command given it (--pcd-data) says so before any work instead.
+void check_write_options(const std::string& path, const WriteOptions& options);
+
 // The contents of one point file. Always holds a "vertex" element with scalar x, y, z
 // properties, and every valid point has finite coordinates and finite, non-zero normals
 // (checked on read, unless ReadOptions::check_normals is false, and by set_normals). For a PCD

@@ -177,6 +177,14 @@ PointFileFormat point_file_format(const std::string& path) {
               path + ": unknown point file extension '" + extension + "' (expected .ply, .pcd, .xyz, .xyzn or .pwn)");
 }
 
+void check_write_options(const std::string& path, const WriteOptions& options) {
+  if (options.pcd_data && point_file_format(path) != PointFileFormat::pcd) {
+    throw Error(ErrorCode::invalid_argument, path + ": a PCD DATA encoding (--pcd-data " +
+                                                 to_string(*options.pcd_data) +
+                                                 ") was asked for a file that is not .pcd");
+  }
+}
+
 PointFile::PointFile() : PointFile(PointCloud{}) {}
 
 PointFile::PointFile(const PointCloud& cloud) : impl_(std::make_unique<Impl>()) {

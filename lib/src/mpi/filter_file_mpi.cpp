@@ -21,8 +21,9 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // What the one-process `pnf filter` refuses before it reads anything.
-void check_paths(const std::string& in, const std::string& out, bool in_place) {
+void check_paths(const std::string& in, const std::string& out, bool in_place, const WriteOptions& write) {
   point_file_format(out);
+  check_write_options(out, write);
   std::error_code ec;
   if (!in_place && std::filesystem::equivalent(in, out, ec)) {
     throw Error(ErrorCode::invalid_argument, out + " is the input file; pass --in-place to overwrite it");
@@ -88,7 +89,7 @@ FileRun filter_file(MPI_Comm caller_comm, const std::string& in_path, const std:
   agree.run([&] {
     if (!options.automatic) run.params.validate();
     options.options.validate();
-    check_paths(in_path, out_path, options.in_place);
+    check_paths(in_path, out_path, options.in_place, options.write);
   });
 
   auto t = Clock::now();
