@@ -14,10 +14,11 @@ an Open3D cloud's own normals) instead of a new one.
 The GIL is released while the library runs, so other Python threads go on; the arrays passed in
 must not be changed by them meanwhile.
 
-Errors: bad shapes, dtypes, NaN and bad parameters raise ValueError with pnf's message; file
-problems OSError; device problems DeviceError (a RuntimeError); a progress callback that returns
-False raises Cancelled (a RuntimeError), and Ctrl-C (within about 0.2 s, within a pass too)
-KeyboardInterrupt.
+Errors: bad shapes, dtypes, NaN and bad parameters raise ValueError with pnf's message; a
+parameter that is not a number where one is wanted TypeError naming it; file problems OSError;
+device problems DeviceError (a RuntimeError); a progress callback that returns a false value
+(False, numpy's False; None goes on) raises Cancelled (a RuntimeError), and Ctrl-C (within about
+0.2 s, within a pass too) KeyboardInterrupt.
 """
 
 from __future__ import annotations
