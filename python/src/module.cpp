@@ -71,14 +71,14 @@ ProgressCallback python_progress(const py::object& callable, bool every_report, 
   };
 }
 
-// Whether arrays `a` and `b` share an element. numpy's may_share_memory compares address ranges
-// only, so the normal columns of one (N, 6) array of positions and normals would overlap its
-// position columns; where the ranges meet, shares_memory settles it exactly, within a bounded
-// effort (a problem too hard for it counts as an overlap).
 // shares_memory's bound on the candidate solutions it tries: strided views of 2-D arrays solve in
 // a few; only exotic strides could need more.
 constexpr int kOverlapWork = 10000;
 
+// Whether arrays `a` and `b` share an element. numpy's may_share_memory compares address ranges
+// only, so the normal columns of one (N, 6) array of positions and normals would overlap its
+// position columns; where the ranges meet, shares_memory settles it exactly, within a bounded
+// effort (a problem too hard for it counts as an overlap).
 bool overlap(const py::object& a, const py::object& b) {
   const py::module_ numpy = py::module_::import("numpy");
   if (!numpy.attr("may_share_memory")(a, b).cast<bool>()) return false;

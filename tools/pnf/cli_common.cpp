@@ -98,15 +98,14 @@ int guarded(Stage& stage, const std::function<int()>& body) {
 
 namespace {
 
-// A validator of a finite number above `lowest` (or from it, with `or_equal`).
-CLI::Validator finite_from(double lowest, bool or_equal, const std::string& name) {
-  const std::string bound = std::string(or_equal ? ">= " : "> ") + (lowest == 0 ? "0" : std::to_string(lowest));
+// A validator of a finite number > 0, or >= 0 with `zero_too`.
+CLI::Validator finite_above_zero(bool zero_too, const std::string& name) {
+  const std::string bound = zero_too ? ">= 0" : "> 0";
   return CLI::Validator(
       [=](std::string& text) -> std::string {
         char* end = nullptr;
         const double value = std::strtod(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value < lowest ||
-            (!or_equal && value == lowest)) {
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value < 0 || (!zero_too && value == 0)) {
           return "must be finite and " + bound + ", got " + text;
         }
         return "";
@@ -116,8 +115,8 @@ CLI::Validator finite_from(double lowest, bool or_equal, const std::string& name
 
 }  // namespace
 
-CLI::Validator finite_positive() { return finite_from(0, false, "POSITIVE"); }
-CLI::Validator finite_non_negative() { return finite_from(0, true, "NON_NEGATIVE"); }
+CLI::Validator finite_positive() { return finite_above_zero(false, "POSITIVE"); }
+CLI::Validator finite_non_negative() { return finite_above_zero(true, "NON_NEGATIVE"); }
 
 void add_pcd_data_option(CLI::App& app, std::string& value) {
   app.add_option("--pcd-data", value,
