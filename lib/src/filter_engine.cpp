@@ -372,7 +372,9 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
     out.curve_rank.resize(cloud.size());
     for (std::size_t k = 0; k < out.order.size(); ++k) out.curve_rank[k] = rank_of_view[out.order[k]];
   }
-  const Vec3 centre = whole_frame ? part->whole_centre : bounding_box(cloud.positions).centre();
+  // Positions reach the kernels as floats: re-centred on the middle of the points (not of their
+  // box, which one far point can move away from all the others).
+  const Vec3 centre = whole_frame ? part->whole_centre : sample_median(cloud.positions, out.order);
   const std::size_t n = cloud.size();
   std::vector<double> positions(3 * n);
   for (std::size_t k = 0; k < n; ++k) {

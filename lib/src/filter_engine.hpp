@@ -39,7 +39,7 @@ struct DistributedPart {
   // No other process takes part (run_observed's observer): a cancel may end a pass midway, where
   // the processes of a distributed run end their passes together.
   bool one_process = false;
-  // The whole cloud's curve frame and bounding-box centre (a distributed run's global frame),
+  // The whole cloud's curve frame and origin (a distributed run's: sample_median's, as one process's),
   // where set: the part orders and re-centres its points as one process does the whole cloud,
   // and each list holds its neighbours in the whole cloud's curve order, so every point's sums
   // round as in one process and the normals are the same bits (docs/method.md).
@@ -55,7 +55,7 @@ struct PreparedCloud {
   std::vector<std::uint32_t> order;
   std::vector<double> normals;           // N by 3, unit (normalised in double), in that order
   std::unique_ptr<SpatialIndex> search;  // over the positions in that order, re-centred on the
-                                         // bounding box's centre in double (docs/method.md)
+                                         // points' middle in double (sample_median, docs/method.md)
   std::size_t owned = 0;                 // the points filtered: [0, owned) in that order
   FilterPlan plan;
   // A part's points' ranks along the curve before the owned points were put first (empty when

@@ -21,6 +21,29 @@ double median_spacing(std::vector<double> distances) {
   return *middle;
 }
 
+Vec3 axis_medians(std::vector<double> xyz) {
+  const std::size_t n = xyz.size() / 3;
+  Vec3 median = {0, 0, 0};
+  std::vector<double> axis(n);
+  for (int c = 0; c < 3; ++c) {
+    for (std::size_t i = 0; i < n; ++i) axis[i] = xyz[3 * i + std::size_t(c)];
+    auto middle = axis.begin() + std::ptrdiff_t(n / 2);
+    std::nth_element(axis.begin(), middle, axis.end());
+    median[std::size_t(c)] = *middle;
+  }
+  return median;
+}
+
+Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32_t>& curve) {
+  const std::size_t n = positions.count, samples = std::min(n, kMaxSpacingSamples);
+  std::vector<double> xyz(3 * samples);
+  for (std::size_t s = 0; s < samples; ++s) {
+    const Vec3 p = positions.at(curve[s * n / samples]);
+    for (int c = 0; c < 3; ++c) xyz[3 * s + std::size_t(c)] = p[std::size_t(c)];
+  }
+  return axis_medians(std::move(xyz));
+}
+
 void throw_cannot_estimate_mean_radius(std::size_t points) {
   throw Error(ErrorCode::invalid_input,
               "cannot estimate the mean surfel radius of " + std::to_string(points) +
@@ -50,11 +73,12 @@ MeanRadius resolve_mean_radius(double given, const ScalarArrayView& radii, std::
 }  // namespace detail
 
 double estimate_mean_radius(const Vec3ArrayView& positions) {
-  // The filter's frame: Morton order, re-centred on the bounding-box centre (filter_engine.cpp),
-  // so that both sample the same points and compute the same distances.
+  // The filter's frame: Morton order, re-centred on the samples' median (filter_engine.cpp), so
+  // that both sample the same points and compute the same distances.
   const std::size_t n = positions.count;
+  if (n == 0) return 0;
   const std::vector<std::uint32_t> order = detail::morton_order(positions);
-  const Vec3 centre = bounding_box(positions).centre();
+  const Vec3 centre = detail::sample_median(positions, order);
   std::vector<double> centred(3 * n);
   for (std::size_t k = 0; k < n; ++k) {
     const Vec3 p = positions.at(order[k]);

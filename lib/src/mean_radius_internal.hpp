@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "pnf/cloud_view.hpp"
 #include "pnf/mean_radius.hpp"
 #include "spatial/spatial_index.hpp"
 
@@ -18,6 +19,18 @@ namespace pnf::detail {
 constexpr int kSpacingNeighbours = 4;
 // Enough samples for a median to a fraction of a percent; bounds the cost on huge clouds.
 constexpr std::size_t kMaxSpacingSamples = 100000;
+
+// The origin that positions are re-centred on before the filter's kernels (float) and the
+// estimates see them: per axis, the median of the points the spacing estimate samples (the
+// curve ranks s * N / S, S = min(N, kMaxSpacingSamples)). Not the bounding-box centre: one point
+// far from the rest (a stray return, a (0,0,0) row in georeferenced data) moved that centre so
+// far from the others that their float positions lost the spacing (docs/method.md). `curve`:
+// the positions' Morton order (morton_order). A distributed run takes the same samples and the
+// same medians (mpi/mean_radius_mpi.cpp). N > 0.
+Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32_t>& curve);
+// Per axis, the lower middle of `xyz` (x y z per point, at least one point): sample_median's
+// medians, and a distributed run's over the samples it gathers.
+Vec3 axis_medians(std::vector<double> xyz);
 
 // The median of the samples' mean distances, those at 0 left out (a point whose nearest are all
 // duplicates of it says nothing about the spacing); 0 when none is left.

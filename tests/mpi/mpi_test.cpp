@@ -188,6 +188,26 @@ TEST(MpiFilter, OpenClMatchesOneProcess) {
   EXPECT_TRUE(c.identical) << "largest angle " << c.max_deg << " deg";
 }
 
+// One stray point far from the house: the origin every rank re-centres on is one process's (the
+// medians of the spacing samples, gathered from the ranks), so the floats and normals are one
+// process's, bit for bit, and the stray point moves no other normal (NormalFilterTest.
+// AFarPointLeavesTheOthersAsTheyWere for one process).
+TEST(MpiFilter, AFarPointMatchesOneProcess) {
+  std::string why;
+  if (no_opencl_device(why)) GTEST_SKIP() << why;
+  FilterOptions options;  // PNF_DEVICE, else the default rule: PoCL here
+  PointCloud cloud = house().cloud;
+  cloud.positions.push_back({-1e7, 3e6, 5});
+  cloud.normals.push_back({0, 0, 1});
+  FilterParams params;
+  params.iterations = 2;
+  const FilterResult expected = one_process(cloud, params, options);
+  for (const auto& [name, split] : {std::pair<const char*, Split>{"even", even}, {"uneven", uneven}}) {
+    const Comparison c = compare(cloud, split, params, options, expected);
+    EXPECT_TRUE(c.identical) << name << ": largest angle " << c.max_deg << " deg";
+  }
+}
+
 TEST(MpiFilter, HalosCoveringTheWholeCloud) {
   const SyntheticCloud small = make_scanned_house(1500);
   FilterParams params;

@@ -93,12 +93,13 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
                                    const std::function<bool(double fraction)>& poll) {
   detail::check_cloud(cloud, estimate_requirements());
   const std::size_t count = cloud.size();
-  // Coordinates relative to the bounding-box centre: a far-away scan loses no digits in the fits.
+  // Coordinates relative to the middle of the points: a far-away scan loses no digits in the fits.
   // The points stay in input order (the normals come in it), so the tree keeps its own copy in
   // leaf order. The samples are spread along the Morton curve and each one's neighbours taken in
   // canonical order (sort_neighbours), so that the estimate does not depend on the input's row
   // order.
-  const Vec3 centre = bounding_box(cloud.positions).centre();
+  const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
+  const Vec3 centre = detail::sample_median(cloud.positions, curve);  // the filter's origin
   std::vector<double> centred_input(count * 3);
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3 p = cloud.positions.at(i);
@@ -106,7 +107,6 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   }
   const detail::SpatialIndex index(std::move(centred_input), detail::SpatialIndex::Layout::any_order);
   const std::vector<double>& centred = index.positions();
-  const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
   const std::vector<std::uint32_t> rank = detail::ranks_of(curve);
   // Each scale's samples are searched once (sample_neighbourhoods) and fitted once, in parallel:
   // the upper fits may fall on the noise scale, the judge on either. The calling thread (OpenMP's

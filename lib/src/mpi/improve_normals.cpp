@@ -264,7 +264,11 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   t = Clock::now();
   RadiusSource source = RadiusSource::not_used;
   double mean_radius = 0;
-  agree.run([&] { mean_radius = detail::resolve_mean_radius(comm, local, owned, frame, params, source); });
+  Vec3 origin = {0, 0, 0};
+  agree.run([&] {
+    origin = detail::sample_median(comm, owned);
+    mean_radius = detail::resolve_mean_radius(comm, local, owned, frame, origin, params, source);
+  });
   summary.radius_seconds = seconds_since(t);
 
   // The halo: every other rank's point within the lists' reach of one of ours.
@@ -291,7 +295,7 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   // One process's curve and centre, so each point's list and sums are one process's.
   part.has_whole_frame = true;
   part.whole_curve = frame.morton;
-  part.whole_centre = frame.centre();
+  part.whole_centre = origin;
   part.exchange_halo = [&](const std::vector<double>& owned_normals, std::vector<double>& halo) {
     agree.check();  // a rank that failed in its pass ends the run here, on every rank
     plan.exchange(owned_normals, halo);

@@ -24,20 +24,26 @@ std::vector<double> recentred(const std::vector<double>& positions, const Vec3& 
   return out;
 }
 
-double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& frame) {
+// This rank's share of the spacing samples (one process's: the points at curve rank s * N / S,
+// S = min(N, kMaxSpacingSamples)), as indices of its owned points.
+std::vector<std::uint32_t> my_samples(const OwnedPoints& owned) {
   const std::uint64_t total = owned.total;
-  const std::size_t n = owned.size();
-  const int k = kSpacingNeighbours;
-  if (total < std::uint64_t(k) + 1) return 0;
   const std::uint64_t samples = std::min(kMaxSpacingSamples, total);
   // Sample s is the point at curve rank s * N / S: is g one of them?
   std::vector<std::uint32_t> mine;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < owned.size(); ++i) {
     const std::uint64_t g = owned.first_global + i;
     const std::uint64_t s = std::uint64_t(((unsigned __int128)g * samples + total - 1) / total);
     if (s < samples && std::uint64_t((unsigned __int128)s * total / samples) == g) mine.push_back(std::uint32_t(i));
   }
-  const Vec3 centre = frame.centre();
+  return mine;
+}
+
+double estimate(MPI_Comm comm, const OwnedPoints& owned, const GlobalFrame& frame, const Vec3& centre) {
+  const std::size_t n = owned.size();
+  const int k = kSpacingNeighbours;
+  if (owned.total < std::uint64_t(k) + 1) return 0;
+  const std::vector<std::uint32_t> mine = my_samples(owned);
   const std::vector<double> own = recentred(owned.positions, centre);
 
   // An upper bound of each sample's k-th nearest distance from this rank's points alone.
@@ -99,8 +105,24 @@ double exact_mean(MPI_Comm comm, const ScalarArrayView& values) {
 
 }  // namespace
 
+Vec3 sample_median(MPI_Comm comm, const OwnedPoints& owned) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<double> mine;
+  for (std::uint32_t i : my_samples(owned))
+    mine.insert(mine.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
+  int count = int(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  check_mpi(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather");
+  const std::vector<int> displs = displacements(counts);
+  std::vector<double> all(std::size_t(displs.back() + counts.back()));
+  check_mpi(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm),
+            "MPI_Allgatherv");
+  return pnf::detail::axis_medians(std::move(all));
+}
+
 double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoints& owned, const GlobalFrame& frame,
-                           const FilterParams& params, RadiusSource& source) {
+                           const Vec3& origin, const FilterParams& params, RadiusSource& source) {
   if (params.units == Units::absolute) {
     source = RadiusSource::not_used;
     return 0;
@@ -122,7 +144,7 @@ double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoi
     return exact_mean(comm, local.radii);
   }
   source = RadiusSource::estimate;
-  const double radius = estimate(comm, owned, frame);
+  const double radius = estimate(comm, owned, frame, origin);
   if (!(radius > 0)) pnf::detail::throw_cannot_estimate_mean_radius(owned.total);
   return radius;
 }
