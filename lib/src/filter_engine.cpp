@@ -10,7 +10,6 @@
 #include "cloud_checks.hpp"
 #include "geometry.hpp"
 #include "mean_radius_internal.hpp"
-#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 #include "run_limits.hpp"
 #include "spatial/spatial_order.hpp"

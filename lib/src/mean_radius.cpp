@@ -6,7 +6,6 @@
 
 #include "exact_sum.hpp"
 #include "mean_radius_internal.hpp"
-#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 #include "spatial/spatial_order.hpp"
 

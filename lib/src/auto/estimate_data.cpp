@@ -13,7 +13,6 @@
 #include "crease_evidence.hpp"
 #include "mean_radius_internal.hpp"
 #include "neighbour_normal_noise.hpp"
-#include "pnf/bounding_box.hpp"
 #include "pnf/choose_filter_params.hpp"
 #include "pnf/error.hpp"
 #include "sample_fit.hpp"
