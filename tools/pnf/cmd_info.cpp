@@ -2,7 +2,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <string>
 
 #include "cli_common.hpp"
 #include "commands.hpp"
@@ -15,20 +14,6 @@ namespace {
 
 // Normals within this of length 1 count as unit: float32 storage rounds at about 1e-7.
 constexpr double kUnitTolerance = 1e-5;
-
-// The integer type (as the header spells it) of the vertex normals, or "" when they are real:
-// normals declared as integers cannot take the filtered ones (PointFile::set_normals).
-std::string integer_normal_type(const PlyHeader& header) {
-  for (const PlyElement& e : header.elements) {
-    if (e.name != "vertex") continue;
-    for (const PlyProperty& p : e.properties) {
-      const bool normal = p.name == "nx" || p.name == "ny" || p.name == "nz" || p.name == "normal_x" ||
-                          p.name == "normal_y" || p.name == "normal_z";
-      if (normal && !p.is_list && p.type != PlyScalar::float32 && p.type != PlyScalar::float64) return p.type_name;
-    }
-  }
-  return "";
-}
 
 void print_pcd(const PcdHeader& pcd) {
   std::printf("  format       pcd %s, DATA %s\n", pcd.version.c_str(), to_string(pcd.data));
@@ -120,12 +105,11 @@ int run_info(const std::string& path) {
       // A NaN normal is a point without a normal in PLY and PCD (PointFile), an error in text.
       const bool text = file.source_format() != PointFileFormat::ply && !pcd;
       if (text) bad += missing;
-      const std::string integer_type = integer_normal_type(header);
-      if (!integer_type.empty())
+      if (const PlyProperty* integer = file.integer_normal_property())
         std::printf(
             "  normals      yes, declared '%s', an integer type: pnf filter and pnf estimate cannot write "
             "normals into them (convert them to float first)",
-            integer_type.c_str());
+            integer->type_name.c_str());
       else if (bad > 0)
         std::printf(
             "  normals      yes, %zu NaN, infinite or zero (pnf filter refuses them; pnf estimate replaces "

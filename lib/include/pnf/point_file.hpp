@@ -62,6 +62,7 @@ const char* to_string(PcdData data);
 
 // The PLY and PCD header models (pnf/point_file_header.hpp), for header() and pcd_header().
 struct PlyHeader;
+struct PlyProperty;
 struct PcdHeader;
 
 // Options for read_point_file.
@@ -137,6 +138,9 @@ class PointFile {
   PointCloud cloud() const;
   // True when the vertex element has nx ny nz (or PCL's normal_x normal_y normal_z).
   bool has_normals() const;
+  // The first of the normal properties declared with an integer type (their name and type:
+  // header()), which set_normals refuses; nullptr when there are none or all are real.
+  const PlyProperty* integer_normal_property() const;
   // Replaces the normals, stored in their declared type (float stays float, rounded to
   // nearest). When the file had none, appends nx ny nz properties to the vertex element:
   // float for a PLY file, double for a text file (whose values are all double); for PCD, float

@@ -305,6 +305,16 @@ PointCloud PointFile::cloud() const {
   return cloud;
 }
 
+const PlyProperty* PointFile::integer_normal_property() const {
+  const Impl& impl = *impl_;
+  if (!impl.fields.has_normals()) return nullptr;
+  const PlyElement& vertex = impl.header.elements[impl.vertex_element];
+  for (const std::size_t field : {impl.fields.nx, impl.fields.ny, impl.fields.nz}) {
+    if (is_integer(vertex.properties[field].type)) return &vertex.properties[field];
+  }
+  return nullptr;
+}
+
 void PointFile::set_normals(const std::vector<Vec3>& normals) {
   constexpr const char* kWhere = "set_normals";
   Impl& impl = *impl_;
@@ -317,13 +327,10 @@ void PointFile::set_normals(const std::vector<Vec3>& normals) {
   }
   for (std::size_t i = 0; i < normals.size(); ++i) check_normal(normals[i], i, kWhere);
   if (impl.fields.has_normals()) {
-    for (const std::size_t field : {impl.fields.nx, impl.fields.ny, impl.fields.nz}) {
-      const PlyProperty& property = vertex.properties[field];
-      if (is_integer(property.type)) {
-        throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" + property.name +
-                                                  "' is declared '" + property.type_name +
-                                                  "', an integer type that cannot hold normals");
-      }
+    if (const PlyProperty* property = integer_normal_property()) {
+      throw Error(ErrorCode::invalid_input, std::string(kWhere) + ": vertex property '" + property->name +
+                                                "' is declared '" + property->type_name +
+                                                "', an integer type that cannot hold normals");
     }
   } else {
     add_normal_properties(impl);
