@@ -173,9 +173,11 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
     throw Error(
         ErrorCode::invalid_input,
         "estimate_data: no neighbourhood of the " + std::to_string(count) +
-            " points could be fitted with a surface (a fit needs 12 points within half its neighbourhood's radius "
-            "of the sample's normal axis): are the points on a line or one spot, or too few (a random patch of 20 "
-            "points has such a neighbourhood about half the time, of 25 nearly always)?");
+            " points could be fitted with a surface (a fit needs " + std::to_string(detail::kMinFitPoints) +
+            " points within " + std::to_string(int(100 * detail::kCylinderFraction)) + "%" +
+            " of its neighbourhood's radius from the sample's normal axis): are the points on a line or one spot, "
+            "or too few (a random patch of 20 points has such a neighbourhood about half the time, of 25 nearly "
+            "always)?");
   }
   // Features and normals are judged on the fits two scales up (16 times the points, twice the
   // radius). There a sharp edge inside the cylinder leaves a residual well above the noise, and

@@ -12,12 +12,6 @@ namespace {
 using geometry::angle_degrees;
 using geometry::kPi;
 
-// The fitted cylinder has this fraction of the distance to the farthest neighbour as radius.
-// Every point of the cylinder within sqrt(1 - 0.5^2) = 0.87 of that distance above or below the
-// centre is then inside the neighbour ball, so the count in it measures the surface density
-// even when the points are scattered along the normal.
-constexpr double kCylinderFraction = 0.5;
-
 // The correlation of the input normals' errors is taken between each sample and the points within
 // this many spacings of it: PCA normals from 16 neighbours (a radius of about 2.3 spacings) share
 // little there, from 64 (4.5 spacings) most of their neighbours.
@@ -27,9 +21,6 @@ constexpr double kCorrelationReachSpacings = 2.5;
 // coupling: PCA over this many nearest points (the sample included), the smallest common PCA
 // neighbourhood, whose error is mostly the noise of the positions near the sample.
 constexpr int kCouplingNeighbours = 16;
-
-// A quadric has 6 coefficients; ask for twice as many points for a stable residual.
-constexpr int kMinFitPoints = 12;
 
 // The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` (PCA), on
 // the side of `side`; zero when fewer points are there or they span no plane.

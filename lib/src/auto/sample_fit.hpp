@@ -9,6 +9,16 @@
 
 namespace pnf::detail {
 
+// The fitted cylinder has this fraction of the distance to the farthest neighbour as radius.
+// Every point of the cylinder within sqrt(1 - 0.5^2) = 0.87 of that distance above or below the
+// centre is then inside the neighbour ball, so the count in it measures the surface density
+// even when the points are scattered along the normal.
+constexpr double kCylinderFraction = 0.5;
+
+// A quadric has 6 coefficients; ask for twice as many points in the cylinder for a stable
+// residual (fewer: the sample is not fitted).
+constexpr int kMinFitPoints = 12;
+
 // One sample's fit at one scale.
 struct SampleFit {
   bool ok = false;
