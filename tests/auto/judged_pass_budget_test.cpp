@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "auto/judged_passes.hpp"
+#include "auto/surface_judge.hpp"
 #include "pnf/choose_filter_params.hpp"
 
 namespace pnf::test {
@@ -133,6 +134,24 @@ TEST(JudgedPassesEnd, NotWhileThePassesStillBeatTheBest) {
   // The teddy at 0.25% noise with PCA-16 normals, gains shrinking, each pass the best so far:
   // the score to beat is the last pass's own.
   EXPECT_FALSE(detail::judged_passes_end({28.4, 23.3, 18.4, 14.7, 12.5, 10.9, 10.0}, 6, 10.0, 8));
+}
+
+// Where Stein's estimate decides, the judge only vetoes its pass, at the whole neighbourhood:
+// fitting the input at both scales to choose one would be spent for nothing.
+TEST(JudgeChoosesScale, OnlyWhereTheJudgeDecides) {
+  AutoChoice clean = choice_with(10, true);
+  clean.estimate.position_noise = 0.0005;  // twice it is under 0.15 spacings: the quarter allowed
+  ASSERT_TRUE(detail::judge_geometry(clean.estimate).quarter_allowed);
+  ASSERT_TRUE(detail::independent_normal_errors(clean));
+  clean.estimate.normal_noise_neighbours_deg = 0;  // the neighbours measured no noise: the judge decides
+  ASSERT_FALSE(detail::stein_decides(clean));
+  EXPECT_TRUE(detail::judge_chooses_scale(clean));
+  clean.estimate.normal_noise_neighbours_deg = 10;
+  ASSERT_TRUE(detail::stein_decides(clean));
+  EXPECT_FALSE(detail::judge_chooses_scale(clean));
+  AutoChoice noisy = choice_with(10, false);
+  ASSERT_FALSE(detail::judge_geometry(noisy.estimate).quarter_allowed);
+  EXPECT_FALSE(detail::judge_chooses_scale(noisy));
 }
 
 }  // namespace

@@ -59,6 +59,51 @@ TEST(SurfaceJudge, ReadsATiltOnASmoothSurfaceAsItsAngle) {
   EXPECT_NEAR(judge.rms_deg(xyz_rows(tilted(truth, 2, 2)).data()), 2.0, 0.4);
 }
 
+// On a plane every fit is exact in any frame (the height is linear in the tangent coordinates),
+// so the judged angle is the tilt to rounding: a wrong term in the fit's normal equations would
+// move it. The plane is turned off the axes, the tilts differ from point to point.
+TEST(SurfaceJudge, ReadsTheTiltsOfAPlaneExactly) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  const Vec3 n = normalized({0.3, -0.5, 0.8});
+  const Vec3 a = normalized({n[1], -n[0], 0});
+  const Vec3 b = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+  std::vector<Vec3> positions;
+  for (int i = 0; i < 5000; ++i) {
+    const double u = coordinate(rng), v = coordinate(rng);
+    positions.push_back({u * a[0] + v * b[0] + 5, u * a[1] + v * b[1] - 2, u * a[2] + v * b[2] + 1});
+  }
+  const detail::SurfaceJudge judge = judge_of(positions, 257, 0.004);
+  ASSERT_FALSE(judge.empty());
+  for (double degrees : {0.0, 3.0, 20.0}) {
+    const std::vector<Vec3> truth(positions.size(), n);
+    EXPECT_NEAR(judge.rms_deg(xyz_rows(tilted(truth, degrees, 7)).data()), degrees, 1e-6) << degrees;
+  }
+}
+
+// A quadric height field z = q(x, y), judged with every normal along z: in that one frame each
+// neighbourhood's heights are exactly quadratic in its tangent coordinates, so with weights near
+// 1 (a wide width) the fit is exact and each point's judged angle is atan |grad q| there. Every
+// term of the fit's normal equations enters (the plane above checks only the linear ones).
+TEST(SurfaceJudge, FitsAQuadricExactly) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> coordinate(-1, 1);
+  std::vector<Vec3> positions;
+  double expected = 0;
+  const int points = 1500;  // under judge_of's 2000 samples: every point is one
+  for (int i = 0; i < points; ++i) {
+    const double x = coordinate(rng), y = coordinate(rng);
+    positions.push_back({x, y, 0.3 * x * x + 0.2 * x * y - 0.4 * y * y + 0.1 * x - 0.2 * y});
+    const double angle = std::atan(std::hypot(0.6 * x + 0.2 * y + 0.1, 0.2 * x - 0.8 * y - 0.2));
+    expected += angle * angle;
+  }
+  expected = std::sqrt(expected / points) * 180 / kPi;
+  const detail::SurfaceJudge judge = judge_of(positions, 65, 100.0);
+  ASSERT_EQ(judge.size(), std::size_t(points));
+  const std::vector<Vec3> up(positions.size(), Vec3{0, 0, 1});
+  EXPECT_NEAR(judge.rms_deg(xyz_rows(up).data()), expected, 1e-6);
+}
+
 TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
   const Crease c = make_crease(90, 20000, 0.0, 5);
   const detail::SurfaceJudge judge = judge_of(c.cloud.positions, 65, 0.15 * c.spacing);

@@ -158,6 +158,10 @@ bool detail::stein_decides(const AutoChoice& choice) {
   return independent_normal_errors(choice) && choice.estimate.normal_noise_neighbours_deg > 0;
 }
 
+bool detail::judge_chooses_scale(const AutoChoice& choice) {
+  return judge_geometry(choice.estimate).quarter_allowed && !stein_decides(choice);
+}
+
 std::string detail::stein_judged(double input_rms_deg, double kept_rms_deg) {
   return "judged against the surface fitted to the positions: the input " + number(input_rms_deg) + " deg" +
          (kept_rms_deg > 0 ? ", the pass of lowest estimate " + number(kept_rms_deg) + " deg" : std::string());
@@ -207,7 +211,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   // Copies: normals_out may be the cloud's own normals, and every run must read the input, so
   // the runs write elsewhere and normals_out gets the normals kept at the end.
   const std::vector<double> input = detail::unit_rows(cloud.normals);
-  if (detail::judge_geometry(run.choice.estimate).quarter_allowed) judge.choose_scale(input.data());
+  if (detail::judge_chooses_scale(run.choice)) judge.choose_scale(input.data());
   if (detail::stein_decides(run.choice)) return stein_run(cloud, normals_out, filter, progress, judge, input, run);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());

@@ -151,9 +151,7 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
     if (root) {
       root->judge = std::move(judge);
       root->input_normals = pnf::detail::unit_rows(whole.normals);
-      if (pnf::detail::judge_geometry(choice.estimate).quarter_allowed) {
-        root->judge.choose_scale(root->input_normals.data());
-      }
+      if (pnf::detail::judge_chooses_scale(choice)) root->judge.choose_scale(root->input_normals.data());
       if (pnf::detail::stein_decides(choice)) {
         root->stein = pnf::detail::SteinRisk(pnf::detail::stein_samples(whole.positions), root->input_normals,
                                              choice.estimate.normal_noise_neighbours_deg);
