@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
 
 #include "spatial/spatial_order.hpp"
@@ -318,6 +319,47 @@ TEST(SpatialOrder, IsAPermutationThatKeepsNeighboursClose) {
   double curve = mean_step([&](int k) { return order[k]; });
   double input = mean_step([&](int k) { return k; });
   EXPECT_LT(curve, 0.25 * input);
+}
+
+// One far point (a stray return, a (0, 0, 0) row among georeferenced points) made the curve's
+// box a billion times the cloud's: every other point fell into one cell and the curve ordered
+// them along x alone. The frame is now the bulk's: consecutive points along the curve stay as
+// close as without the far point.
+TEST(SpatialOrder, AFarPointLeavesTheOthersCloseAlongTheCurve) {
+  std::mt19937 rng(6);
+  std::normal_distribution<double> g(0, 1);
+  const pnf::Vec3 place = {5.1e5, 4.2e6, 120};  // metres, as a georeferenced scan
+  std::vector<pnf::Vec3> points;
+  for (int i = 0; i < 20000; ++i) {
+    pnf::Vec3 d = {g(rng), g(rng), g(rng)};
+    const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    points.push_back({place[0] + 10 * d[0] / r, place[1] + 10 * d[1] / r, place[2] + 10 * d[2] / r});
+  }
+  // The mean step between consecutive points of the cloud's own along the curve of `cloud`.
+  auto mean_step = [&](const std::vector<pnf::Vec3>& cloud) {
+    const std::vector<std::uint32_t> order = pnf::detail::morton_order(cloud);
+    double sum = 0;
+    int steps = 0;
+    for (std::size_t k = 1; k < order.size(); ++k) {
+      if (order[k - 1] >= points.size() || order[k] >= points.size()) continue;
+      const pnf::Vec3 &a = cloud[order[k - 1]], &b = cloud[order[k]];
+      sum += std::sqrt(std::pow(a[0] - b[0], 2) + std::pow(a[1] - b[1], 2) + std::pow(a[2] - b[2], 2));
+      ++steps;
+    }
+    return sum / steps;
+  };
+  const double alone = mean_step(points);
+  for (const pnf::Vec3& far : {pnf::Vec3{0, 0, 0}, pnf::Vec3{-1e9, 0, 3e8}, pnf::Vec3{5.1e5, 4.2e6, 1e12}}) {
+    std::vector<pnf::Vec3> with_far = points;
+    with_far.push_back(far);
+    EXPECT_LT(mean_step(with_far), 1.2 * alone) << far[0] << " " << far[1] << " " << far[2];
+  }
+  // A cloud without far points keeps its box's frame, and so the curve it always had.
+  const pnf::BoundingBox box = pnf::bounding_box(pnf::Vec3ArrayView(points));
+  const pnf::detail::MortonFrame own = pnf::detail::morton_frame_of(points);
+  const pnf::detail::MortonFrame of_box = pnf::detail::morton_frame(box.min, box.max, {});
+  EXPECT_EQ(own.low, of_box.low);
+  EXPECT_EQ(own.to_cells, of_box.to_cells);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "spatial/spatial_order.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <vector>
@@ -24,22 +25,87 @@ std::uint64_t spread_bits(std::uint64_t v) {
   return v;
 }
 
-}  // namespace
+// The sample's share of the points beyond the bulk at each end, per axis: up to this many stray
+// points leave the bulk's box as it is.
+constexpr double kBulkQuantile = 0.001;
+// The bulk's box is widened by this share of its width on each side: a surface's own extreme
+// points, beyond the quantiles, mostly stay inside.
+constexpr double kBulkMargin = 0.125;
+// About this many points make the sample (all of them in smaller clouds).
+constexpr std::uint64_t kCurveSamplePoints = std::uint64_t{1} << 16;
 
-MortonFrame morton_frame(const Vec3& low, const Vec3& high) {
+double box_extent(const Vec3& low, const Vec3& high) {
   double extent = 0;
   for (int k = 0; k < 3; ++k) extent = std::max(extent, high[k] - low[k]);
-  return {low, extent > 0 ? kCellsPerAxis / extent : 0};
+  return extent;
+}
+
+// SplitMix64's finaliser: every bit of the coordinates moves every bit of the hash.
+std::uint64_t mix(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+std::uint64_t curve_sample_stride(std::uint64_t points) {
+  return std::max<std::uint64_t>(1, points / kCurveSamplePoints);
+}
+
+bool in_curve_sample(const Vec3& p, std::uint64_t stride) {
+  std::uint64_t hash = 0;
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &p[k], sizeof bits);
+    hash = mix(hash ^ bits);
+  }
+  return hash % stride == 0;
+}
+
+MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz) {
+  const double extent = box_extent(low, high);
+  const MortonFrame whole = {low, extent > 0 ? kCellsPerAxis / extent : 0};
+  const std::size_t m = sample_xyz.size() / 3;
+  if (m == 0) return whole;
+  Vec3 bulk_low, bulk_high;
+  std::vector<double> axis(m);
+  for (int k = 0; k < 3; ++k) {
+    for (std::size_t i = 0; i < m; ++i) axis[i] = sample_xyz[3 * i + std::size_t(k)];
+    const auto lower = std::ptrdiff_t(std::floor(kBulkQuantile * double(m - 1)));
+    const auto upper = std::ptrdiff_t(std::ceil((1 - kBulkQuantile) * double(m - 1)));
+    std::nth_element(axis.begin(), axis.begin() + lower, axis.end());
+    bulk_low[k] = axis[std::size_t(lower)];
+    std::nth_element(axis.begin(), axis.begin() + upper, axis.end());
+    bulk_high[k] = axis[std::size_t(upper)];
+  }
+  const double bulk = box_extent(bulk_low, bulk_high);
+  if (!(bulk > 0) || !(extent > kFarBoxPerBulk * bulk)) return whole;
+  Vec3 corner;
+  for (int k = 0; k < 3; ++k) corner[k] = bulk_low[k] - kBulkMargin * bulk;
+  return {corner, kCellsPerAxis / ((1 + 2 * kBulkMargin) * bulk)};
+}
+
+MortonFrame morton_frame_of(const Vec3ArrayView& positions) {
+  const BoundingBox box = bounding_box(positions);
+  const std::uint64_t stride = curve_sample_stride(positions.count);
+  std::vector<double> sample;
+  for (std::size_t i = 0; i < positions.count; ++i) {
+    const Vec3 p = positions.at(i);
+    if (in_curve_sample(p, stride)) sample.insert(sample.end(), p.begin(), p.end());
+  }
+  return morton_frame(box.min, box.max, std::move(sample));
 }
 
 std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p) {
   std::uint64_t key = 0;
   for (int k = 0; k < 3; ++k) {
-    auto cell = static_cast<std::uint64_t>((p[k] - frame.low[k]) * frame.to_cells);
-    key |= spread_bits(cell) << k;
+    const double cell = std::clamp((p[k] - frame.low[k]) * frame.to_cells, 0.0, kCellsPerAxis);
+    key |= spread_bits(static_cast<std::uint64_t>(cell)) << k;
   }
   return key;
 }
+
 
 bool canonical_before(const Vec3& a, const Vec3& b) {
   for (int k = 0; k < 3; ++k) {
@@ -54,8 +120,7 @@ bool canonical_before(const Vec3& a, const Vec3& b) {
 std::vector<std::uint32_t> morton_order(const Vec3ArrayView& positions, const Vec3ArrayView* normals,
                                         const MortonFrame* given) {
   const std::size_t n = positions.count;
-  const BoundingBox box = bounding_box(positions);
-  const MortonFrame frame = given ? *given : morton_frame(box.min, box.max);
+  const MortonFrame frame = given ? *given : morton_frame_of(positions);
   std::vector<std::uint64_t> keys(n);
   for (std::size_t i = 0; i < n; ++i) keys[i] = morton_key(frame, positions.at(i));
   std::vector<std::uint32_t> order(n);

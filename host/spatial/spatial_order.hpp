@@ -14,19 +14,37 @@ namespace pnf::detail {
 // that its points keep one process's order whatever rank holds them.
 bool canonical_before(const Vec3& a, const Vec3& b);
 
-// The curve's frame: the lowest corner of the bounding box and cells per model unit. A
-// distributed run (pnf/mpi.hpp) builds it from the global box so that every rank computes the
-// keys one process would.
+// The curve's frame: its lowest corner and cells per model unit. A distributed run (pnf/mpi.hpp)
+// builds it from the global box and sample so that every rank computes the keys one process would.
 struct MortonFrame {
   Vec3 low = {0, 0, 0};
   double to_cells = 0;
 };
-MortonFrame morton_frame(const Vec3& low, const Vec3& high);
-// The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by.
+// The frame of points whose bounding box is [low, high]: that box, unless it is more than
+// kFarBoxPerBulk times as wide as the box of the points' bulk (per axis, the sample's coordinates
+// from its 0.1% to its 99.9% quantile, widened by an eighth on each side), as one far point makes
+// it (a sensor's stray return, a (0, 0, 0) row among georeferenced points): then the bulk's, and
+// the points beyond it take the cells on its faces. In the box of a point 1e9 away the curve put
+// a unit cloud's points into one cell, ordered along x only, and the filter's runs took 2.5 times
+// as long (docs/method.md, "Curve order"). `sample_xyz`: the coordinates of the points
+// in_curve_sample picks, by 3, in any order.
+MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz);
+// The box of all the points may be this many times the bulk's: its curve still gives the bulk
+// 2^21 / 64 = 32768 cells a side, a few points a cell for a surface of 10^9 points.
+constexpr double kFarBoxPerBulk = 64;
+// The sample morton_frame measures the bulk on: each point whose coordinates' bits hash into one
+// in curve_sample_stride(points in the whole cloud), so that a distributed run's ranks pick the
+// points one process picks, whatever rank holds them (and every copy of a point alike).
+std::uint64_t curve_sample_stride(std::uint64_t points);
+bool in_curve_sample(const Vec3& p, std::uint64_t stride);
+// morton_frame of `positions` (N by 3) as a whole cloud.
+MortonFrame morton_frame_of(const Vec3ArrayView& positions);
+// The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by; a point beyond the
+// frame takes the cell on its face.
 std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p);
 
 // A permutation of 0..N-1: order[k] is the input index of the k-th point along the Morton
-// (Z-order) curve of the bounding box (pnf::bounding_box), 21 bits per axis. Points with the same
+// (Z-order) curve of morton_frame_of(positions), 21 bits per axis. Points with the same
 // key go in canonical_before's order (then, with `normals`, by the normals' bits; last, input
 // order, which only identical rows still share), so that the order of the points does not depend
 // on the input's row order. positions (and normals): N by 3, any view. With `frame`, the keys

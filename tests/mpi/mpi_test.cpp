@@ -14,6 +14,8 @@
 #include <random>
 
 #include "agreement.hpp"
+#include "partition.hpp"
+#include "pnf/bounding_box.hpp"
 #include "pnf/device.hpp"
 #include "pnf/error.hpp"
 #include "pnf/improve_normals.hpp"
@@ -205,6 +207,29 @@ TEST(MpiFilter, AFarPointMatchesOneProcess) {
   for (const auto& [name, split] : {std::pair<const char*, Split>{"even", even}, {"uneven", uneven}}) {
     const Comparison c = compare(cloud, split, params, options, expected);
     EXPECT_TRUE(c.identical) << name << ": largest angle " << c.max_deg << " deg";
+  }
+}
+
+// The curve's frame across ranks is one process's, on every partition: where the sample is a
+// hashed subset (over 2^17 points) and a far point makes the frame the bulk's.
+TEST(MpiPartition, CurveFrameIsOneProcesses) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  PointCloud cloud;
+  for (int i = 0; i < 200000; ++i) cloud.positions.push_back({u(rng), 2 * u(rng), u(rng)});
+  cloud.positions[12345] = {4e8, -3e8, 1e3};
+  const pnf::detail::MortonFrame expected = pnf::detail::morton_frame_of(Vec3ArrayView(cloud.positions));
+  const BoundingBox box = bounding_box(Vec3ArrayView(cloud.positions));
+  ASSERT_NE(expected.to_cells, pnf::detail::morton_frame(box.min, box.max, {}).to_cells) << "the bulk's frame";
+  for (const auto& [name, split] : {std::pair<const char*, Split>{"even", even},
+                                    {"uneven", uneven},
+                                    {"all on last", all_on_last},
+                                    {"one empty", one_empty}}) {
+    const std::vector<std::size_t> first = split(cloud.size(), ranks());
+    const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+    const mpi::detail::GlobalFrame frame = mpi::detail::global_frame(MPI_COMM_WORLD, Vec3ArrayView(part.positions));
+    EXPECT_EQ(frame.morton.low, expected.low) << name;
+    EXPECT_EQ(frame.morton.to_cells, expected.to_cells) << name;
   }
 }
 

@@ -3,7 +3,7 @@
 # PNF_WITH_MPI is on.
 add_executable(pnf_mpi_tests ${PROJECT_SOURCE_DIR}/tests/mpi/mpi_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/mpi/filter_file_test.cpp)
-target_include_directories(pnf_mpi_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests ${PROJECT_SOURCE_DIR}/lib/src
+target_include_directories(pnf_mpi_tests PRIVATE ${PROJECT_SOURCE_DIR}/tests ${PROJECT_SOURCE_DIR}/lib/src ${PROJECT_SOURCE_DIR}/host
   ${PROJECT_SOURCE_DIR}/lib/src/mpi)
 target_link_libraries(pnf_mpi_tests PRIVATE pnf_mpi GTest::gtest)
 set(PNF_MPI_TEST_ENVIRONMENT OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1)

@@ -106,19 +106,10 @@ double exact_mean(MPI_Comm comm, const ScalarArrayView& values) {
 }  // namespace
 
 Vec3 sample_median(MPI_Comm comm, const OwnedPoints& owned) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
   std::vector<double> mine;
   for (std::uint32_t i : my_samples(owned))
     mine.insert(mine.end(), &owned.positions[3 * i], &owned.positions[3 * i] + 3);
-  int count = int(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(ranks));
-  check_mpi(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather");
-  const std::vector<int> displs = displacements(counts);
-  std::vector<double> all(std::size_t(displs.back() + counts.back()));
-  check_mpi(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm),
-            "MPI_Allgatherv");
-  return pnf::detail::axis_medians(std::move(all));
+  return pnf::detail::axis_medians(gather_to_all(comm, mine));
 }
 
 double resolve_mean_radius(MPI_Comm comm, const CloudView& local, const OwnedPoints& owned, const GlobalFrame& frame,

@@ -76,6 +76,22 @@ std::vector<int> displacements(const std::vector<int>& counts) {
   return out;
 }
 
+std::vector<double> gather_to_all(MPI_Comm comm, const std::vector<double>& mine) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  if (mine.size() > std::size_t(std::numeric_limits<int>::max())) {
+    throw Error(ErrorCode::invalid_argument, "more than 2^31 values from one rank in one exchange: use more ranks");
+  }
+  int count = int(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(ranks));
+  check_mpi(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather");
+  const std::vector<int> displs = displacements(counts);
+  std::vector<double> all(std::size_t(displs.back()) + std::size_t(counts.back()));
+  check_mpi(MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, comm),
+            "MPI_Allgatherv");
+  return all;
+}
+
 GlobalFrame global_frame(MPI_Comm comm, const Vec3ArrayView& positions) {
   const double inf = std::numeric_limits<double>::infinity();
   double box[6] = {inf, inf, inf, inf, inf, inf};  // low, then -high, so one MIN reduces both
@@ -95,7 +111,16 @@ GlobalFrame global_frame(MPI_Comm comm, const Vec3ArrayView& positions) {
     frame.high[k] = -box[3 + k];
     frame.extent = std::max(frame.extent, frame.high[k] - frame.low[k]);
   }
-  frame.morton = pnf::detail::morton_frame(frame.low, frame.high);
+  // The curve's sample, as one process picks it from the whole cloud.
+  std::uint64_t total = positions.count;
+  check_mpi(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UINT64_T, MPI_SUM, comm), "MPI_Allreduce");
+  const std::uint64_t stride = pnf::detail::curve_sample_stride(total);
+  std::vector<double> mine;
+  for (std::size_t i = 0; i < positions.count; ++i) {
+    const Vec3 p = positions.at(i);
+    if (pnf::detail::in_curve_sample(p, stride)) mine.insert(mine.end(), p.begin(), p.end());
+  }
+  frame.morton = pnf::detail::morton_frame(frame.low, frame.high, gather_to_all(comm, mine));
   return frame;
 }
 

@@ -13,7 +13,8 @@
 
 namespace pnf::mpi::detail {
 
-// The bounding box of every rank's points: the box one process would compute.
+// The bounding box of every rank's points, and the curve's frame: the box and frame one process
+// would compute (morton_frame_of).
 struct GlobalFrame {
   bool empty = true;  // no rank holds a point
   Vec3 low = {0, 0, 0}, high = {0, 0, 0};
@@ -64,5 +65,8 @@ class ByteRecord {
 
 // Exclusive prefix offsets of `counts`, as int for MPI, after checking they fit.
 std::vector<int> displacements(const std::vector<int>& counts);
+
+// Every rank's `mine`, concatenated in rank order, on every rank. Collective.
+std::vector<double> gather_to_all(MPI_Comm comm, const std::vector<double>& mine);
 
 }  // namespace pnf::mpi::detail
