@@ -55,7 +55,11 @@ PointFile from_arrays(py::handle points, py::handle normals, py::handle radii) {
     check_same_size("radii", r->size(), "points", p.size());
     view.radii = r->view();
   }
-  return PointFile(to_point_cloud(view));
+  PointFile file(to_point_cloud(view));
+  // Zero rows of normals are normals all the same (a PointCloud cannot say so): the file
+  // declares nx ny nz, as it does for any other count.
+  if (n && !file.has_normals()) file.set_normals({});
+  return file;
 }
 
 void write_file(const PointFile& file, py::handle path, bool ascii) {

@@ -96,6 +96,16 @@ def test_write_points_and_normals_is_exact(tmp_path):
     np.testing.assert_array_equal(pnf.read(tmp_path / "cloud.ply").radii, radii)
 
 
+def test_zero_points_with_normals_keep_their_normal_properties(tmp_path):
+    # A filter's output on an empty selection: the file still says it carries normals.
+    for name in ("empty.ply", "empty.pcd"):
+        pnf.write(tmp_path / name, np.zeros((0, 3)), np.zeros((0, 3)))
+        back = pnf.read(tmp_path / name)
+        assert back.normals is not None and back.normals.shape == (0, 3), name
+    pnf.write(tmp_path / "bare.ply", np.zeros((0, 3)))
+    assert pnf.read(tmp_path / "bare.ply").normals is None
+
+
 def test_write_with_new_normals_leaves_the_file_object_alone(tmp_path):
     points, normals, _ = noisy_cube(5)
     f = pnf.PointFile(points, normals)
