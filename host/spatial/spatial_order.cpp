@@ -53,14 +53,19 @@ std::uint64_t curve_sample_stride(std::uint64_t points) {
   return std::max<std::uint64_t>(1, points / kCurveSamplePoints);
 }
 
-bool in_curve_sample(const Vec3& p, std::uint64_t stride) {
-  std::uint64_t hash = 0;
-  for (int k = 0; k < 3; ++k) {
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, &p[k], sizeof bits);
-    hash = mix(hash ^ bits);
+std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t stride) {
+  std::vector<double> sample;
+  for (std::size_t i = 0; i < positions.count; ++i) {
+    const Vec3 p = positions.at(i);
+    std::uint64_t hash = 0;
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &p[k], sizeof bits);
+      hash = mix(hash ^ bits);
+    }
+    if (hash % stride == 0) sample.insert(sample.end(), p.begin(), p.end());
   }
-  return hash % stride == 0;
+  return sample;
 }
 
 MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz) {
@@ -88,13 +93,7 @@ MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> 
 
 MortonFrame morton_frame_of(const Vec3ArrayView& positions) {
   const BoundingBox box = bounding_box(positions);
-  const std::uint64_t stride = curve_sample_stride(positions.count);
-  std::vector<double> sample;
-  for (std::size_t i = 0; i < positions.count; ++i) {
-    const Vec3 p = positions.at(i);
-    if (in_curve_sample(p, stride)) sample.insert(sample.end(), p.begin(), p.end());
-  }
-  return morton_frame(box.min, box.max, std::move(sample));
+  return morton_frame(box.min, box.max, curve_sample(positions, curve_sample_stride(positions.count)));
 }
 
 std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p) {
@@ -105,7 +104,6 @@ std::uint64_t morton_key(const MortonFrame& frame, const Vec3& p) {
   }
   return key;
 }
-
 
 bool canonical_before(const Vec3& a, const Vec3& b) {
   for (int k = 0; k < 3; ++k) {

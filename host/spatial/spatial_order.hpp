@@ -25,18 +25,18 @@ struct MortonFrame {
 // from its 0.1% to its 99.9% quantile, widened by an eighth on each side), as one far point makes
 // it (a sensor's stray return, a (0, 0, 0) row among georeferenced points): then the bulk's, and
 // the points beyond it take the cells on its faces. In the box of a point 1e9 away the curve put
-// a unit cloud's points into one cell, ordered along x only, and the filter's runs took 2.5 times
-// as long (docs/method.md, "Curve order"). `sample_xyz`: the coordinates of the points
-// in_curve_sample picks, by 3, in any order.
+// a unit cloud's points into one cell, ordered along x only, and the filter's runs took twice
+// as long (docs/method.md, "Curve order"). `sample_xyz`: curve_sample's, in any order.
 MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz);
 // The box of all the points may be this many times the bulk's: its curve still gives the bulk
 // 2^21 / 64 = 32768 cells a side, a few points a cell for a surface of 10^9 points.
 constexpr double kFarBoxPerBulk = 64;
-// The sample morton_frame measures the bulk on: each point whose coordinates' bits hash into one
-// in curve_sample_stride(points in the whole cloud), so that a distributed run's ranks pick the
-// points one process picks, whatever rank holds them (and every copy of a point alike).
+// The sample morton_frame measures the bulk on: the coordinates (by 3) of each point whose bits
+// hash into one in `stride` (curve_sample_stride of the points in the whole cloud), so that a
+// distributed run's ranks pick the points one process picks, whatever rank holds them (and
+// every copy of a point alike).
 std::uint64_t curve_sample_stride(std::uint64_t points);
-bool in_curve_sample(const Vec3& p, std::uint64_t stride);
+std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t stride);
 // morton_frame of `positions` (N by 3) as a whole cloud.
 MortonFrame morton_frame_of(const Vec3ArrayView& positions);
 // The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by; a point beyond the

@@ -210,6 +210,27 @@ TEST(MpiFilter, AFarPointMatchesOneProcess) {
   }
 }
 
+// A stray point 1e10 away stretches the cloud's box, not the halos: each rank holds about the
+// halo it holds without it (the grid's cells were widened by a billionth of the box, 10 units:
+// at 2 ranks 4745 halo points instead of 3626; 3773 now, the partition moved by the point).
+TEST(MpiFilter, AFarPointLeavesTheHalosAsTheyWere) {
+  FilterParams params;
+  params.iterations = 1;
+  auto halo_max = [&](const PointCloud& cloud) {
+    const std::vector<std::size_t> first = even(cloud.size(), ranks());
+    const PointCloud part = slice(cloud, first[std::size_t(rank())], first[std::size_t(rank()) + 1]);
+    std::vector<Vec3> normals(part.size());
+    return mpi::improve_normals(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), params,
+                                reference_options())
+        .halo_max;
+  };
+  PointCloud cloud = house().cloud;
+  const std::size_t alone = halo_max(cloud);
+  cloud.positions.push_back({1e10, -2e9, 7});
+  cloud.normals.push_back({0, 0, 1});
+  EXPECT_LE(halo_max(cloud), alone + alone / 10 + 1) << "without the far point: " << alone;
+}
+
 // The curve's frame across ranks is one process's, on every partition: where the sample is a
 // hashed subset (over 2^17 points) and a far point makes the frame the bulk's.
 TEST(MpiPartition, CurveFrameIsOneProcesses) {

@@ -27,7 +27,7 @@ struct FrameError {
   double variance = 0;              // of the slope, from the weighted residuals (radians^2)
 };
 using Row = Eigen::Matrix<double, 6, 1>;
-using Normal = Eigen::Matrix<double, 6, 6>;
+using NormalEquations = Eigen::Matrix<double, 6, 6>;  // A^T W A of the quadric's fit
 
 // A neighbourhood in the judged normal's frame, one array per coordinate (the fits' loops read
 // them in step): tangent coordinates u, v and height h, in units of the farthest neighbour.
@@ -45,7 +45,7 @@ struct FramePoints {
 // least squares, with m = A^T W A. A^T W A holds only the 15 weighted moments of u^a v^b
 // (a + b <= 4), so they are summed once each instead of A's 36 products per point: a judged
 // score took 0.029 s instead of 0.034 s (docs/auto.md, "Time").
-Row weighted_fit(const FramePoints& p, std::size_t count, Normal& m) {
+Row weighted_fit(const FramePoints& p, std::size_t count, NormalEquations& m) {
   double s[15] = {};  // 1 u v uu uv vv uuu uuv uvv vvv uuuu uuuv uuvv uvvv vvvv
   Row rhs = Row::Zero();
   for (std::size_t k = 0; k < count; ++k) {
@@ -73,7 +73,7 @@ double residual(const FramePoints& p, std::size_t k, const Row& c) {
 }
 
 // Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`.
-// (Eigen's vectorised exp instead of glibc's, whose FMA version it is, measured no faster.)
+// (Eigen's vectorised exp measured no faster than glibc's exp here, which has an FMA version.)
 void reweight(FramePoints& p, std::size_t count, const Row& c, double w_scale) {
   for (std::size_t k = 0; k < count; ++k) {
     const double r = residual(p, k, c) / w_scale;
@@ -110,7 +110,7 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     p.weights[k] = std::exp(-0.5 * r * r);
   }
   Row c = Row::Zero();
-  Normal m;
+  NormalEquations m;
   for (int step = 0; step < kReweightSteps; ++step) {
     if (step > 0) reweight(p, points, c, w_scale);
     c = weighted_fit(p, points, m);
@@ -127,7 +127,7 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     rss += p.weights[k] * r * r;
     weight += p.weights[k];
   }
-  const Normal inverse = m.inverse();
+  const NormalEquations inverse = m.inverse();
   const double variance = weight > 6 ? rss / (weight - 6) * (inverse(1, 1) + inverse(2, 2)) : 0.0;
   return {std::atan(slope), c(1), c(2), std::isfinite(variance) ? variance : 0.0};
 }

@@ -13,8 +13,11 @@ namespace {
 
 // Grid cells are wider than the distance by this fraction of it and of the cloud's extent, so
 // that two points within the distance never land two cells apart through rounding (the cell
-// index of a coordinate is computed to a few ulps of the extent).
-constexpr double kCellMargin = 1e-9;
+// index of a coordinate is computed to a few ulps of the extent, 2.2e-16 of it each): some 500
+// times what rounding needs. 1e-9 widened the cells by the extent's billionth, a whole unit
+// where one stray point lies 1e9 away from a cloud a few units wide, and each rank's halo took
+// most of the cloud.
+constexpr double kCellMargin = 1e-12;
 
 using Cell = std::array<std::int64_t, 3>;
 struct CellHash {

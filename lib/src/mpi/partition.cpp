@@ -79,10 +79,7 @@ std::vector<int> displacements(const std::vector<int>& counts) {
 std::vector<double> gather_to_all(MPI_Comm comm, const std::vector<double>& mine) {
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
-  if (mine.size() > std::size_t(std::numeric_limits<int>::max())) {
-    throw Error(ErrorCode::invalid_argument, "more than 2^31 values from one rank in one exchange: use more ranks");
-  }
-  int count = int(mine.size());
+  int count = int(mine.size());  // samples: a few hundred thousand values at most
   std::vector<int> counts(static_cast<std::size_t>(ranks));
   check_mpi(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather");
   const std::vector<int> displs = displacements(counts);
@@ -114,12 +111,7 @@ GlobalFrame global_frame(MPI_Comm comm, const Vec3ArrayView& positions) {
   // The curve's sample, as one process picks it from the whole cloud.
   std::uint64_t total = positions.count;
   check_mpi(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPI_UINT64_T, MPI_SUM, comm), "MPI_Allreduce");
-  const std::uint64_t stride = pnf::detail::curve_sample_stride(total);
-  std::vector<double> mine;
-  for (std::size_t i = 0; i < positions.count; ++i) {
-    const Vec3 p = positions.at(i);
-    if (pnf::detail::in_curve_sample(p, stride)) mine.insert(mine.end(), p.begin(), p.end());
-  }
+  const std::vector<double> mine = pnf::detail::curve_sample(positions, pnf::detail::curve_sample_stride(total));
   frame.morton = pnf::detail::morton_frame(frame.low, frame.high, gather_to_all(comm, mine));
   return frame;
 }

@@ -66,7 +66,8 @@ class ByteRecord {
 // Exclusive prefix offsets of `counts`, as int for MPI, after checking they fit.
 std::vector<int> displacements(const std::vector<int>& counts);
 
-// Every rank's `mine`, concatenated in rank order, on every rank. Collective.
+// Every rank's `mine` (a sample: under 2^31 values), concatenated in rank order, on every rank.
+// Collective.
 std::vector<double> gather_to_all(MPI_Comm comm, const std::vector<double>& mine);
 
 }  // namespace pnf::mpi::detail
