@@ -321,6 +321,37 @@ TEST(SpatialOrder, IsAPermutationThatKeepsNeighboursClose) {
   EXPECT_LT(curve, 0.25 * input);
 }
 
+// Nearest first, equal distances by rank, whatever the sort (a comparison sort for few
+// neighbours, a radix sort for many): against std::sort by (distance, rank), with many ties.
+TEST(SpatialOrder, SortNeighboursOrdersByDistanceThenRank) {
+  std::mt19937 rng(9);
+  for (std::size_t k : {5, 127, 128, 300, 4097}) {
+    std::vector<std::uint32_t> rank(20000);
+    std::iota(rank.begin(), rank.end(), 0u);
+    std::shuffle(rank.begin(), rank.end(), rng);
+    std::vector<std::size_t> ids(k);
+    std::vector<double> distances(k);
+    std::uniform_int_distribution<std::size_t> id(0, rank.size() - 1);
+    std::uniform_int_distribution<int> level(0, int(k / 4));  // about four points a distance
+    for (std::size_t j = 0; j < k; ++j) {
+      ids[j] = id(rng);
+      distances[j] = j % 7 == 0 ? 0.0 : std::ldexp(1.0 + level(rng) * 1e-3, level(rng) % 40 - 20);
+    }
+    std::vector<std::size_t> want(k);
+    std::iota(want.begin(), want.end(), std::size_t{0});
+    std::sort(want.begin(), want.end(), [&](std::size_t a, std::size_t b) {
+      return distances[a] != distances[b] ? distances[a] < distances[b] : rank[ids[a]] < rank[ids[b]];
+    });
+    std::vector<std::size_t> sorted_ids = ids;
+    std::vector<double> sorted_distances = distances;
+    pnf::detail::sort_neighbours(sorted_ids.data(), sorted_distances.data(), k, rank);
+    for (std::size_t j = 0; j < k; ++j) {
+      ASSERT_EQ(sorted_distances[j], distances[want[j]]) << k << " " << j;
+      ASSERT_EQ(rank[sorted_ids[j]], rank[ids[want[j]]]) << k << " " << j;
+    }
+  }
+}
+
 // One far point (a stray return, a (0, 0, 0) row among georeferenced points) made the curve's
 // box a billion times the cloud's: every other point fell into one cell and the curve ordered
 // them along x alone. The frame is now the bulk's: consecutive points along the curve stay as
