@@ -106,8 +106,8 @@ bool stein_decides(const AutoChoice& choice);
 // judging: where the positions allow the quarter (JudgeGeometry::quarter_allowed) and the judge
 // decides. Where Stein's estimate decides, the judge only vetoes its pass, scored against the input
 // at the whole neighbourhood: the quarter changed no outcome on clean clouds (docs/auto.md,
-// "Where --auto still misses the grid") and fitting the input twice cost 0.05-0.09 s on 100k
-// points, about 7% of the run.
+// "Where --auto still misses the grid"), and its fit of the input is saved (0-0.05 s a run on
+// 100k points, docs/auto.md "Time").
 bool judge_chooses_scale(const AutoChoice& choice);
 
 // AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
