@@ -185,7 +185,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--backend", backend, "opencl (default) or reference")->check(CLI::IsMember({"opencl", "reference"}));
   app.add_option("--device", device, "OpenCL device selector");
-  app.add_option("--repeats", repeats, "run the paper's setting and --auto this many times in turn, each timed by its fastest")
+  app.add_option("--repeats", repeats,
+                 "run the paper's setting and --auto this many times in turn, each timed by its fastest")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);

@@ -366,7 +366,8 @@ TEST(SpatialOrder, AFarPointLeavesTheOthersCloseAlongTheCurve) {
     const double r = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     points.push_back({place[0] + 10 * d[0] / r, place[1] + 10 * d[1] / r, place[2] + 10 * d[2] / r});
   }
-  // The mean step between consecutive points of the cloud's own along the curve of `cloud`.
+  // The mean step between consecutive points along the curve of `cloud`, steps to or from the far
+  // point left out.
   auto mean_step = [&](const std::vector<pnf::Vec3>& cloud) {
     const std::vector<std::uint32_t> order = pnf::detail::morton_order(cloud);
     double sum = 0;

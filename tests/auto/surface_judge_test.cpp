@@ -61,7 +61,7 @@ TEST(SurfaceJudge, ReadsATiltOnASmoothSurfaceAsItsAngle) {
 
 // On a plane every fit is exact in any frame (the height is linear in the tangent coordinates),
 // so the judged angle is the tilt to rounding: a wrong term in the fit's normal equations would
-// move it. The plane is turned off the axes, the tilts differ from point to point.
+// move it. The plane is turned off the axes; the tilts turn each normal a different way.
 TEST(SurfaceJudge, ReadsTheTiltsOfAPlaneExactly) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> coordinate(-1, 1);

@@ -59,7 +59,7 @@ Row weighted_fit(const FramePoints& p, std::size_t count, NormalEquations& m) {
     rhs(0) += w * h, rhs(1) += wu * h, rhs(2) += wv * h, rhs(3) += wuu * h, rhs(4) += wuv * h, rhs(5) += wvv * h;
   }
   // Rows and columns 1 u v uu uv vv: entry (i, j) is the moment of their product.
-  constexpr int kMoment[6][6] = {{0, 1, 2, 3, 4, 5},     {1, 3, 4, 6, 7, 8},       {2, 4, 5, 7, 8, 9},
+  constexpr int kMoment[6][6] = {{0, 1, 2, 3, 4, 5},    {1, 3, 4, 6, 7, 8},    {2, 4, 5, 7, 8, 9},
                                  {3, 6, 7, 10, 11, 12}, {4, 7, 8, 11, 12, 13}, {5, 8, 9, 12, 13, 14}};
   for (int i = 0; i < 6; ++i) {
     for (int j = 0; j < 6; ++j) m(i, j) = s[kMoment[i][j]] + (i == j ? 1e-12 : 0.0);
