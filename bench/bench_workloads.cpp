@@ -59,6 +59,13 @@ Workload make_workload(const std::string& name, const std::string& shared_data_d
   if (name == "dog") return synthetic(name, 400000, 8, 0.5);
   if (name == "cube") return noisy_cube(name, 400000, 8, 0.5);
   if (name == "big") return synthetic(name, 2000000, 8, 0.5);
+  if (name == "stray") {  // the face with one stray point 1e9 away: its time should be the face's
+    Workload w = synthetic(name, 75000, 4, 0.5);
+    w.source += ", one point 1e9 away";
+    w.cloud.positions.push_back({1e9, 0, 3e8});
+    w.cloud.normals.push_back({0, 0, 1});
+    return w;
+  }
   if (name.rfind("sweep-", 0) == 0) return synthetic(name, std::stoul(name.substr(6)), 4, 0.5);
   if (name == "bunny") {
     const std::string path = shared_data_dir + "/bunny_scans_merged.ply";

@@ -31,8 +31,8 @@ constexpr double kFlopsPerPair = 71;
 // Names: "face" (75k points, sigma_f 4, sigma_g 0.5), "dog" (400k, sigma_f 8), "bunny" (the
 // 362k raw Stanford scans, normals by pnf::estimate_normals; needs the team's data),
 // "cube" (a noisy 400k-point cube, sigma_f 8: sharp edges everywhere), "big" (2M points,
-// sigma_f 8: 6.5 GB of lists, so it runs in chunks), "sweep-N" (N points,
-// sigma_f 4). Synthetic ones are the scanned house of synthetic_shapes.hpp.
+// sigma_f 8: 6.5 GB of lists, so it runs in chunks), "stray" (the face and one point 1e9 away:
+// docs/method.md, "Curve order"), "sweep-N" (N points, sigma_f 4). Synthetic ones are the scanned house of synthetic_shapes.hpp.
 // Returns an empty name when the workload cannot be made (bunny without the data).
 Workload make_workload(const std::string& name, const std::string& shared_data_dir);
 

@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
   bool reference = false, sliced = false;
   std::vector<int> lanes;
   std::vector<std::string> kernel_options;
-  app.add_option("--workloads", workloads, "face, dog, bunny (default these three), cube, big")->delimiter(',');
+  app.add_option("--workloads", workloads, "face, dog, bunny (default these three), cube, big, stray")->delimiter(',');
   app.add_option("--sweep", sweep, "also run the synthetic house at these sizes, e.g. 10000,100000,1000000")
       ->delimiter(',');
   app.add_option("--repeats", repeats, "timed runs per workload (default 3)")->check(CLI::PositiveNumber);
