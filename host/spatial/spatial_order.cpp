@@ -73,21 +73,24 @@ std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t s
   return sample;
 }
 
-MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz) {
+double axis_order_statistic(const std::vector<double>& xyz, int axis, std::size_t index) {
+  std::vector<double> values(xyz.size() / 3);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = xyz[3 * i + std::size_t(axis)];
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(index), values.end());
+  return values[index];
+}
+
+MortonFrame morton_frame(const Vec3& low, const Vec3& high, const std::vector<double>& sample_xyz) {
   const double extent = box_extent(low, high);
   const MortonFrame whole = {low, extent > 0 ? kCellsPerAxis / extent : 0};
   const std::size_t m = sample_xyz.size() / 3;
   if (m == 0) return whole;
+  const auto lower = std::size_t(std::floor(kBulkQuantile * double(m - 1)));
+  const auto upper = std::size_t(std::ceil((1 - kBulkQuantile) * double(m - 1)));
   Vec3 bulk_low, bulk_high;
-  std::vector<double> axis(m);
   for (int k = 0; k < 3; ++k) {
-    for (std::size_t i = 0; i < m; ++i) axis[i] = sample_xyz[3 * i + std::size_t(k)];
-    const auto lower = std::ptrdiff_t(std::floor(kBulkQuantile * double(m - 1)));
-    const auto upper = std::ptrdiff_t(std::ceil((1 - kBulkQuantile) * double(m - 1)));
-    std::nth_element(axis.begin(), axis.begin() + lower, axis.end());
-    bulk_low[k] = axis[std::size_t(lower)];
-    std::nth_element(axis.begin(), axis.begin() + upper, axis.end());
-    bulk_high[k] = axis[std::size_t(upper)];
+    bulk_low[std::size_t(k)] = axis_order_statistic(sample_xyz, k, lower);
+    bulk_high[std::size_t(k)] = axis_order_statistic(sample_xyz, k, upper);
   }
   const double bulk = box_extent(bulk_low, bulk_high);
   if (!(bulk > 0) || !(extent > kFarBoxPerBulk * bulk)) return whole;

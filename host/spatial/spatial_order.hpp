@@ -27,7 +27,7 @@ struct MortonFrame {
 // the points beyond it take the cells on its faces. In the box of a point 1e9 away the curve put
 // a unit cloud's points into one cell, ordered along x only, and the filter's runs took twice
 // as long (docs/method.md, "Curve order"). `sample_xyz`: curve_sample's, in any order.
-MortonFrame morton_frame(const Vec3& low, const Vec3& high, std::vector<double> sample_xyz);
+MortonFrame morton_frame(const Vec3& low, const Vec3& high, const std::vector<double>& sample_xyz);
 // The box of all the points may be this many times the bulk's: its curve still gives the bulk
 // 2^21 / 64 = 32768 cells a side, a few points a cell for a surface of 10^9 points.
 constexpr double kFarBoxPerBulk = 64;
@@ -37,6 +37,9 @@ constexpr double kFarBoxPerBulk = 64;
 // every copy of a point alike).
 std::uint64_t curve_sample_stride(std::uint64_t points);
 std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t stride);
+// The `index`-th smallest (from 0) of coordinate `axis` (0-2) over the points of `xyz` (x y z per
+// point, more than `index` of them): the curve frame's quantiles and the origin's medians.
+double axis_order_statistic(const std::vector<double>& xyz, int axis, std::size_t index);
 // morton_frame of `positions` (N by 3) as a whole cloud.
 MortonFrame morton_frame_of(const Vec3ArrayView& positions);
 // The Morton key of `p` in `frame` (63 bits), the key morton_order sorts by; a point beyond the

@@ -20,17 +20,10 @@ double median_spacing(std::vector<double> distances) {
   return *middle;
 }
 
-Vec3 axis_medians(std::vector<double> xyz) {
+Vec3 axis_medians(const std::vector<double>& xyz) {
   const std::size_t n = xyz.size() / 3;
-  Vec3 median = {0, 0, 0};
-  std::vector<double> axis(n);
-  for (int c = 0; c < 3; ++c) {
-    for (std::size_t i = 0; i < n; ++i) axis[i] = xyz[3 * i + std::size_t(c)];
-    auto middle = axis.begin() + std::ptrdiff_t(n / 2);
-    std::nth_element(axis.begin(), middle, axis.end());
-    median[std::size_t(c)] = *middle;
-  }
-  return median;
+  return {axis_order_statistic(xyz, 0, n / 2), axis_order_statistic(xyz, 1, n / 2),
+          axis_order_statistic(xyz, 2, n / 2)};
 }
 
 Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32_t>& curve) {
@@ -40,7 +33,7 @@ Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32
     const Vec3 p = positions.at(curve[s * n / samples]);
     for (int c = 0; c < 3; ++c) xyz[3 * s + std::size_t(c)] = p[std::size_t(c)];
   }
-  return axis_medians(std::move(xyz));
+  return axis_medians(xyz);
 }
 
 void throw_cannot_estimate_mean_radius(std::size_t points) {

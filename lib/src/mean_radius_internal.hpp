@@ -30,7 +30,7 @@ constexpr std::size_t kMaxSpacingSamples = 100000;
 Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32_t>& curve);
 // Per axis, the lower middle of `xyz` (x y z per point, at least one point): sample_median's
 // medians, and a distributed run's over the samples it gathers.
-Vec3 axis_medians(std::vector<double> xyz);
+Vec3 axis_medians(const std::vector<double>& xyz);
 
 // The median of the samples' mean distances, those at 0 left out (a point whose nearest are all
 // duplicates of it says nothing about the spacing); 0 when none is left.
