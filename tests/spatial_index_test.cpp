@@ -138,6 +138,47 @@ TEST(SpatialIndex, EveryScanVariantGivesTheBruteForceLists) {
   }
 }
 
+// Every scan variant rounds the squared distance as the plain expression does, unfused: neighbours
+// placed exactly on the radius by that expression, where a fused multiply-add would put them
+// just outside, are in every variant's lists. (GCC fused the AVX-512 scans' products into FMAs
+// until the library was built with -ffp-contract=off; then the same cloud could have other lists
+// on another CPU.)
+TEST(SpatialIndex, EveryScanVariantRoundsTheDistanceUnfused) {
+  const std::vector<double> p = random_points(300, 11);
+  const std::size_t n = p.size() / 3;
+  SpatialIndex search(p);
+  std::vector<SpatialIndex::ListTuning> tunings(4);
+  tunings[1].avx512_scan = false;
+  tunings[2].avx512_scan = false;
+  tunings[2].avx2_scan = false;
+  tunings[3].avx512_scan = false;
+  tunings[3].avx2_scan = false;
+  tunings[3].wide_scan = false;
+  int cases = 0;
+  for (std::size_t s = 0; s < n && cases < 40; ++s) {
+    for (std::size_t j = 0; j < n && cases < 40; ++j) {
+      const double dx = p[3 * j] - p[3 * s], dy = p[3 * j + 1] - p[3 * s + 1], dz = p[3 * j + 2] - p[3 * s + 2];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double radius = std::sqrt(d2);
+      // On the radius exactly, and outside it by some fused rounding of the same sum.
+      const double fused[] = {std::fma(dz, dz, std::fma(dy, dy, dx * dx)), std::fma(dz, dz, dx * dx + dy * dy),
+                              std::fma(dx, dx, dy * dy) + dz * dz};
+      if (j == s || radius * radius != d2 || !(std::max({fused[0], fused[1], fused[2]}) > d2)) continue;
+      ++cases;
+      for (std::size_t t = 0; t < tunings.size(); ++t) {
+        search.set_list_tuning(tunings[t]);
+        const std::vector<std::uint32_t> counts = search.count_within(radius);
+        const CsrLists lists = search.lists_within(radius, s, 1, counts);
+        EXPECT_EQ(counts[s], lists.indices.size()) << "tuning " << t;
+        const std::vector<std::uint32_t> got(lists.indices.begin(), lists.indices.end());
+        EXPECT_TRUE(std::count(got.begin(), got.end(), std::uint32_t(j)) == 1)
+            << "tuning " << t << ": point " << j << " on the radius of point " << s;
+      }
+    }
+  }
+  EXPECT_EQ(cases, 40);
+}
+
 // Candidates kept by the count give the fill the same lists, for the whole range and for a chunk
 // inside it; they do not claim to cover another radius or a range outside the count's.
 TEST(SpatialIndex, KeptCandidatesGiveTheSameLists) {

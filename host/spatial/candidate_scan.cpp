@@ -1,5 +1,7 @@
 #include "spatial/candidate_scan.hpp"
 
+#include "wide_clones.hpp"
+
 #if defined(__GNUC__) && defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -8,9 +10,10 @@ namespace pnf::detail {
 namespace {
 
 // The neighbourhood |p - s| <= radius, inclusive (docs/method.md, "Reach"), decided here and only here (in the scans
-// below, which all inline it). The file is compiled without floating-point contraction
-// (-std=c++17 implies -ffp-contract=off on GCC), so every build and every instruction set below
-// rounds this expression the same way and gives the same lists.
+// below, which all inline it). The library is compiled without floating-point contraction
+// (-ffp-contract=off, lib/CMakeLists.txt: GCC fused these products into FMAs in the AVX-512 scans
+// before), so every build and every instruction set below rounds this expression the same way and
+// gives the same lists (test SpatialIndex.EveryScanVariantRoundsTheDistanceUnfused).
 inline bool within(double dx, double dy, double dz, double radius2) { return dx * dx + dy * dy + dz * dz <= radius2; }
 
 // How many of a point's candidates are within. Written once, built twice: plain (the build's
@@ -22,13 +25,7 @@ inline std::uint32_t count_scan_body(const Candidates& c, double px, double py, 
   return n;
 }
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define PNF_WIDE_SCAN __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define PNF_WIDE_SCAN
-#endif
-
-PNF_WIDE_SCAN std::uint32_t count_scan_wide(const Candidates& c, double px, double py, double pz, double radius2) {
+PNF_WIDE_CLONES std::uint32_t count_scan_wide(const Candidates& c, double px, double py, double pz, double radius2) {
   return count_scan_body(c, px, py, pz, radius2);
 }
 std::uint32_t count_scan_plain(const Candidates& c, double px, double py, double pz, double radius2) {
