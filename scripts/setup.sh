@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers opencl-clhpp-headers clinfo
-  libeigen3-dev libflann-dev liblz4-dev liblzf-dev
+  libeigen3-dev libflann-dev liblz4-dev liblzf-dev libsleef-dev
   googletest libgtest-dev
   libcli11-dev libpng-dev
   clang libclang-rt-14-dev libomp-dev

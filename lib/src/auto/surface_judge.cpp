@@ -7,7 +7,9 @@
 #include <numeric>
 
 #include "geometry.hpp"
+#include "quadric_moments.hpp"
 #include "sample_neighbourhoods.hpp"
+#include "vector_exp.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -42,28 +44,18 @@ struct FramePoints {
 };
 
 // The quadric's coefficients c (height = c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2) by weighted
-// least squares, with m = A^T W A. A^T W A holds only the 15 weighted moments of u^a v^b
-// (a + b <= 4), so they are summed once each instead of A's 36 products per point: a judged
-// score took 0.029 s instead of 0.034 s (docs/auto.md, "Time").
+// least squares, with m = A^T W A. A^T W A holds only the 15 weighted moments of u^a v^b, so they
+// are summed once each (quadric_moment_sums) instead of A's 36 products per point.
 Row weighted_fit(const FramePoints& p, std::size_t count, NormalEquations& m) {
-  double s[15] = {};  // 1 u v uu uv vv uuu uuv uvv vvv uuuu uuuv uuvv uvvv vvvv
-  Row rhs = Row::Zero();
-  for (std::size_t k = 0; k < count; ++k) {
-    const double w = p.weights[k], u = p.u[k], v = p.v[k];
-    const double wu = w * u, wv = w * v, wuu = wu * u, wuv = wu * v, wvv = wv * v;
-    const double wuuu = wuu * u, wuuv = wuu * v, wuvv = wuv * v, wvvv = wvv * v;
-    s[0] += w, s[1] += wu, s[2] += wv, s[3] += wuu, s[4] += wuv, s[5] += wvv;
-    s[6] += wuuu, s[7] += wuuv, s[8] += wuvv, s[9] += wvvv;
-    s[10] += wuuu * u, s[11] += wuuu * v, s[12] += wuuv * v, s[13] += wuvv * v, s[14] += wvvv * v;
-    const double h = p.h[k];
-    rhs(0) += w * h, rhs(1) += wu * h, rhs(2) += wv * h, rhs(3) += wuu * h, rhs(4) += wuv * h, rhs(5) += wvv * h;
-  }
+  double s[kQuadricMoments];
+  quadric_moment_sums(p.weights.data(), p.u.data(), p.v.data(), p.h.data(), count, s);
   // Rows and columns 1 u v uu uv vv: entry (i, j) is the moment of their product.
   constexpr int kMoment[6][6] = {{0, 1, 2, 3, 4, 5},    {1, 3, 4, 6, 7, 8},    {2, 4, 5, 7, 8, 9},
                                  {3, 6, 7, 10, 11, 12}, {4, 7, 8, 11, 12, 13}, {5, 8, 9, 12, 13, 14}};
   for (int i = 0; i < 6; ++i) {
     for (int j = 0; j < 6; ++j) m(i, j) = s[kMoment[i][j]] + (i == j ? 1e-12 : 0.0);
   }
+  const Row rhs = Eigen::Map<const Row>(s + 15);
   return m.ldlt().solve(rhs);
 }
 
@@ -72,13 +64,14 @@ double residual(const FramePoints& p, std::size_t k, const Row& c) {
   return p.h[k] - (c(0) + u * (c(1) + c(3) * u + c(4) * v) + v * (c(2) + c(5) * v));
 }
 
-// Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`.
-// (Eigen's vectorised exp measured no faster than glibc's exp here, which has an FMA version.)
+// Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`: the
+// exponents first, then exp over them all at once (vector_exp.hpp).
 void reweight(FramePoints& p, std::size_t count, const Row& c, double w_scale) {
   for (std::size_t k = 0; k < count; ++k) {
     const double r = residual(p, k, c) / w_scale;
-    p.weights[k] = std::exp(-0.5 * r * r);
+    p.weights[k] = -0.5 * r * r;
   }
+  exp_in_place(p.weights.data(), count);
 }
 
 // Without `with_variance` only the angle and slopes are computed: the last reweighting and the
@@ -106,13 +99,12 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     p.u[k] = o.dot(t1);
     p.v[k] = o.dot(t2);
     p.h[k] = o.dot(n);
-    const double r = p.h[k] / w_scale;
-    p.weights[k] = std::exp(-0.5 * r * r);
   }
+  // The first weights from the residuals to n's plane: those to the quadric 0.
   Row c = Row::Zero();
   NormalEquations m;
   for (int step = 0; step < kReweightSteps; ++step) {
-    if (step > 0) reweight(p, points, c, w_scale);
+    reweight(p, points, c, w_scale);
     c = weighted_fit(p, points, m);
   }
   // The weights of the fit found: for the variance only.
