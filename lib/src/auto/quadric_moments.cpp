@@ -34,4 +34,19 @@ PNF_WIDE_CLONES void quadric_moment_sums(const double* w, const double* u, const
   }
 }
 
+QuadricMatrix quadric_normal_matrix(const double (&sums)[kQuadricMoments]) {
+  // Entry (i, j) is the moment of the product of rows i and j.
+  constexpr int kMoment[6][6] = {{0, 1, 2, 3, 4, 5},    {1, 3, 4, 6, 7, 8},    {2, 4, 5, 7, 8, 9},
+                                 {3, 6, 7, 10, 11, 12}, {4, 7, 8, 11, 12, 13}, {5, 8, 9, 12, 13, 14}};
+  QuadricMatrix m;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) m(i, j) = sums[kMoment[i][j]];
+  }
+  return m;
+}
+
+QuadricVector quadric_right_side(const double (&sums)[kQuadricMoments]) {
+  return Eigen::Map<const QuadricVector>(sums + 15);
+}
+
 }  // namespace pnf::detail

@@ -1,7 +1,9 @@
-// Internal to --auto: the sums a weighted quadric height fit needs (the surface judge's fits,
-// surface_judge.cpp), vectorised, with the same bits on every CPU.
+// Internal to --auto: the normal equations of a weighted quadric height fit (the estimate's fits,
+// sample_fit.cpp, and the surface judge's, surface_judge.cpp), their sums vectorised with the same
+// bits on every CPU.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 
 namespace pnf::detail {
@@ -21,5 +23,11 @@ constexpr int kMomentLanes = 8;
 // Over points [0, count) of the arrays of weights w, tangent coordinates u, v and heights h.
 void quadric_moment_sums(const double* w, const double* u, const double* v, const double* h, std::size_t count,
                          double (&out)[kQuadricMoments]);
+
+// A^T W A of the fit (rows and columns 1 u v uu uv vv) and A^T W h, from the sums.
+using QuadricMatrix = Eigen::Matrix<double, 6, 6>;
+using QuadricVector = Eigen::Matrix<double, 6, 1>;
+QuadricMatrix quadric_normal_matrix(const double (&sums)[kQuadricMoments]);
+QuadricVector quadric_right_side(const double (&sums)[kQuadricMoments]);
 
 }  // namespace pnf::detail

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "geometry.hpp"
+#include "quadric_moments.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -71,30 +72,25 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
   if (!(rho > 0) || !(eigen.eigenvalues()(1) > 0)) return fit;
 
   // Least squares in coordinates relative to the sample, scaled by rho (well conditioned at any
-  // model scale).
-  Eigen::Matrix<double, 6, 6> normal_matrix = Eigen::Matrix<double, 6, 6>::Zero();
-  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-  std::vector<Eigen::Vector3d> local;
-  local.reserve(offsets.size());
+  // model scale), over the points within rho of the normal's axis, each weighed alike.
+  thread_local std::vector<double> us, vs, heights, ones;  // one fit at a time per thread
+  us.clear(), vs.clear(), heights.clear();
   for (const Eigen::Vector3d& o : offsets) {
     const double u = o.dot(t1) / rho, v = o.dot(t2) / rho;
     if (u * u + v * v > 1.0) continue;
-    const double w = o.dot(normal) / rho;
-    local.emplace_back(u, v, w);
-    Eigen::Matrix<double, 6, 1> row;
-    row << 1, u, v, u * u, u * v, v * v;
-    normal_matrix += row * row.transpose();
-    rhs += row * w;
+    us.push_back(u), vs.push_back(v), heights.push_back(o.dot(normal) / rho);
   }
-  const int fitted = int(local.size());
+  const int fitted = int(us.size());
   if (fitted < kMinFitPoints) return fit;
-  const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> solver = normal_matrix.ldlt();
-  const Eigen::Matrix<double, 6, 1> c = solver.solve(rhs);
+  ones.assign(us.size(), 1.0);
+  double sums[kQuadricMoments];
+  quadric_moment_sums(ones.data(), us.data(), vs.data(), heights.data(), us.size(), sums);
+  const QuadricVector c = quadric_normal_matrix(sums).ldlt().solve(quadric_right_side(sums));
   double rss = 0;
-  for (const Eigen::Vector3d& q : local) {
-    const double model =
-        c(0) + c(1) * q.x() + c(2) * q.y() + c(3) * q.x() * q.x() + c(4) * q.x() * q.y() + c(5) * q.y() * q.y();
-    rss += (q.z() - model) * (q.z() - model);
+  for (std::size_t k = 0; k < us.size(); ++k) {
+    const double u = us[k], v = vs[k];
+    const double model = c(0) + c(1) * u + c(2) * v + c(3) * u * u + c(4) * u * v + c(5) * v * v;
+    rss += (heights[k] - model) * (heights[k] - model);
   }
   fit.ok = std::isfinite(rss);
   fit.radius = rho;

@@ -28,8 +28,6 @@ struct FrameError {
   double slope_u = 0, slope_v = 0;  // the fitted surface's slope along the frame's tangents
   double variance = 0;              // of the slope, from the weighted residuals (radians^2)
 };
-using Row = Eigen::Matrix<double, 6, 1>;
-using NormalEquations = Eigen::Matrix<double, 6, 6>;  // A^T W A of the quadric's fit
 
 // A neighbourhood in the judged normal's frame, one array per coordinate (the fits' loops read
 // them in step): tangent coordinates u, v and height h, in units of the farthest neighbour.
@@ -44,29 +42,23 @@ struct FramePoints {
 };
 
 // The quadric's coefficients c (height = c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2) by weighted
-// least squares, with m = A^T W A. A^T W A holds only the 15 weighted moments of u^a v^b, so they
-// are summed once each (quadric_moment_sums) instead of A's 36 products per point.
-Row weighted_fit(const FramePoints& p, std::size_t count, NormalEquations& m) {
+// least squares, with m = A^T W A (quadric_moments.hpp).
+QuadricVector weighted_fit(const FramePoints& p, std::size_t count, QuadricMatrix& m) {
   double s[kQuadricMoments];
   quadric_moment_sums(p.weights.data(), p.u.data(), p.v.data(), p.h.data(), count, s);
-  // Rows and columns 1 u v uu uv vv: entry (i, j) is the moment of their product.
-  constexpr int kMoment[6][6] = {{0, 1, 2, 3, 4, 5},    {1, 3, 4, 6, 7, 8},    {2, 4, 5, 7, 8, 9},
-                                 {3, 6, 7, 10, 11, 12}, {4, 7, 8, 11, 12, 13}, {5, 8, 9, 12, 13, 14}};
-  for (int i = 0; i < 6; ++i) {
-    for (int j = 0; j < 6; ++j) m(i, j) = s[kMoment[i][j]] + (i == j ? 1e-12 : 0.0);
-  }
-  const Row rhs = Eigen::Map<const Row>(s + 15);
-  return m.ldlt().solve(rhs);
+  m = quadric_normal_matrix(s);
+  m.diagonal().array() += 1e-12;
+  return m.ldlt().solve(quadric_right_side(s));
 }
 
-double residual(const FramePoints& p, std::size_t k, const Row& c) {
+double residual(const FramePoints& p, std::size_t k, const QuadricVector& c) {
   const double u = p.u[k], v = p.v[k];
   return p.h[k] - (c(0) + u * (c(1) + c(3) * u + c(4) * v) + v * (c(2) + c(5) * v));
 }
 
 // Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`: the
 // exponents first, then exp over them all at once (vector_exp.hpp).
-void reweight(FramePoints& p, std::size_t count, const Row& c, double w_scale) {
+void reweight(FramePoints& p, std::size_t count, const QuadricVector& c, double w_scale) {
   for (std::size_t k = 0; k < count; ++k) {
     const double r = residual(p, k, c) / w_scale;
     p.weights[k] = -0.5 * r * r;
@@ -101,8 +93,8 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     p.h[k] = o.dot(n);
   }
   // The first weights from the residuals to n's plane: those to the quadric 0.
-  Row c = Row::Zero();
-  NormalEquations m;
+  QuadricVector c = QuadricVector::Zero();
+  QuadricMatrix m;
   for (int step = 0; step < kReweightSteps; ++step) {
     reweight(p, points, c, w_scale);
     c = weighted_fit(p, points, m);
@@ -119,7 +111,7 @@ FrameError error_in_frame(const double* offsets, int count, Eigen::Vector3d n, d
     rss += p.weights[k] * r * r;
     weight += p.weights[k];
   }
-  const NormalEquations inverse = m.inverse();
+  const QuadricMatrix inverse = m.inverse();
   const double variance = weight > 6 ? rss / (weight - 6) * (inverse(1, 1) + inverse(2, 2)) : 0.0;
   return {std::atan(slope), c(1), c(2), std::isfinite(variance) ? variance : 0.0};
 }
