@@ -1,7 +1,7 @@
 // NormalFilter::run_observed (pnf/normal_filter.hpp): the observer sees each pass's normals in the
 // cloud's row order, and ending the passes there leaves that pass's result, bit for bit as a
 // plain run of that many passes gives it. run_observed_after_twin: two sets of normals over one
-// build of the lists, each as its own run gives it.
+// build of the lists, each as its own run gives it, taking turns pass by pass over whole lists.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -118,6 +118,40 @@ TEST(RunObserved, TwinRunOverChunkedListsGivesEachSetTheBitsOfItsOwnRun) {
   options.memory.budget_bytes = 200 * 1024;  // a tenth or so of this cloud's lists
   NormalFilter chunked(options);
   expect_twin_as_two_runs(chunked);
+}
+
+// How many passes the twin runs when the cloud's observer ends the cloud's run after 2 of 6.
+int twin_passes_when_the_cloud_ends_after_two(NormalFilter& filter) {
+  const PointCloud ball = sphere(3000, 2.0, 31);
+  FilterParams params;
+  params.iterations = 6;
+  int twin_passes = 0;
+  std::vector<Vec3> out(ball.size());
+  const pnf::FilterSummary summary = filter.run_observed_after_twin(
+      pnf::CloudView(ball), tilted(ball.normals),
+      [&](int, const std::vector<double>&) {
+        ++twin_passes;
+        return true;
+      },
+      pnf::MutableVec3ArrayView(out), params, [&](int pass, const std::vector<double>&) { return pass < 2; });
+  EXPECT_EQ(summary.passes_run, 2);
+  return twin_passes;
+}
+
+// Where the lists stay whole on the device, the two runs take turns pass by pass, so the twin
+// runs no pass past the cloud's last (it ran its whole budget first before); over chunked lists,
+// which each turn would fill again, the twin's passes still all run first.
+TEST_P(RunObservedTest, TwinRunsNoPassPastTheCloudsLastOverWholeLists) {
+  NormalFilter* filter = PNF_FILTER_OR_SKIP(GetParam());
+  PNF_SKIP_IF_NULL(filter);
+  EXPECT_EQ(twin_passes_when_the_cloud_ends_after_two(*filter), 2);
+}
+
+TEST(RunObserved, TwinRunsItsWholeBudgetFirstOverChunkedLists) {
+  pnf::FilterOptions options{pnf::Device::reference()};
+  options.memory.budget_bytes = 200 * 1024;
+  NormalFilter chunked(options);
+  EXPECT_EQ(twin_passes_when_the_cloud_ends_after_two(chunked), 6);
 }
 
 TEST(RunObserved, TwinWithAZeroNormalIsRefusedNamingIt) {

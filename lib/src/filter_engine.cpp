@@ -151,15 +151,20 @@ class Passes {
   void reuse_whole_lists() { reuse_whole_lists_ = true; }
   // Whether the run left the lists of one whole chunk on the backend.
   bool whole_lists_loaded() const { return whole_lists_loaded_; }
+  // Whether the passes have ended before params.iterations: the stop rule or the part said so.
+  bool ended() const { return ended_; }
+  // Whether run's plan keeps the lists as one whole chunk (unless the device then refuses it).
+  bool plans_whole_lists() {
+    return prepared_.owned > 0 && plan_chunks(lists_.counts, list_budget(), backend_.max_list_bytes()).size() == 1;
+  }
 
-  std::vector<double> run() {
-    // The kept candidates count against the memory budget (they live as long as the lists).
-    std::size_t budget = options_.memory.budget_bytes;
-    if (lists_.candidates.bytes() < budget / 4) {
-      budget -= lists_.candidates.bytes();
-    } else {
-      lists_.candidates = BlockCandidates{};  // a budget too small for them: the fills search instead
-    }
+  // Passes first_pass to last_pass (of params.iterations) from the prepared cloud's normals, which
+  // are those after pass first_pass - 1: a pass reads only the normals of the pass before it, so a
+  // run may stop after any pass and go on from its normals (run_filter's twin, pass by pass).
+  std::vector<double> run(int first_pass, int last_pass) {
+    first_pass_ = first_pass;
+    last_pass_ = last_pass;
+    std::size_t budget = list_budget();
     for (;;) {
       try {
         run_all(budget);
@@ -183,6 +188,15 @@ class Passes {
   }
 
  private:
+  // The bytes the lists may take: the budget less the kept candidates, which live as long as the
+  // lists; where they would take a quarter of it, they are dropped and the fills search instead.
+  std::size_t list_budget() {
+    const std::size_t budget = options_.memory.budget_bytes;
+    if (lists_.candidates.bytes() < budget / 4) return budget - lists_.candidates.bytes();
+    lists_.candidates = BlockCandidates{};
+    return budget;
+  }
+
   // Fills the chunk's lists; `from` and `share` place it in the list stage's progress.
   void load_chunk(const Chunk& chunk, int passes_done, Clock::time_point stage_start, double from, double share) {
     backend_.wait();  // the previous chunk's kernel still reads the buffers; its time is the pass's
@@ -256,9 +270,13 @@ class Passes {
     const std::vector<Chunk> chunks =
         owned > 0 ? plan_chunks(lists_.counts, budget, backend_.max_list_bytes()) : std::vector<Chunk>{};
     summary_.chunks = chunks.size();
-    summary_.pass_seconds.clear();
-    summary_.kernel_seconds.clear();
-    summary_.degenerate_kept = 0;
+    if (first_pass_ == 1) {
+      summary_.pass_seconds.clear();
+      summary_.kernel_seconds.clear();
+      summary_.mean_change_deg.clear();
+      summary_.degenerate_kept = 0;
+      summary_.passes_run = 0;
+    }
     largest_ = 0;
     halo_.assign(3 * (prepared_.order.size() - owned), 0.0);
     auto start = Clock::now();
@@ -276,14 +294,12 @@ class Passes {
     whole_lists_loaded_ = whole;
 
     std::vector<double> previous = prepared_.normals;  // for the stop rule
-    summary_.mean_change_deg.clear();
-    summary_.passes_run = 0;
     // Chunked passes run their chunks forwards, then backwards, and so on: the chunk that ends a
     // pass is still in the buffer to start the next one, so each pass after the first refills one
     // chunk fewer. Every chunk of a pass reads the previous pass's normals, so the order does not
     // change the result.
     std::size_t loaded = whole ? 0 : chunks.size();  // the chunk whose lists the buffer holds
-    for (int pass = 1; pass <= params_.iterations; ++pass) {
+    for (int pass = first_pass_; pass <= last_pass_; ++pass) {
       auto pass_start = Clock::now();
       for (std::size_t i = 0; i < chunks.size(); ++i) {
         const std::size_t c = pass % 2 == 1 ? i : chunks.size() - 1 - i;
@@ -299,7 +315,10 @@ class Passes {
       std::vector<double> current;
       if (part_) current = exchange_halo();
       summary_.pass_seconds.push_back(seconds_since(pass_start));
-      if (end_of_pass(&backend_, params_, progress_, part_, owned, pass, previous, current, summary_)) break;
+      if (end_of_pass(&backend_, params_, progress_, part_, owned, pass, previous, current, summary_)) {
+        ended_ = true;
+        break;
+      }
     }
   }
 
@@ -313,10 +332,58 @@ class Passes {
   FilterSummary& summary_;
   bool reuse_whole_lists_ = false;
   bool whole_lists_loaded_ = false;
+  bool ended_ = false;
+  int first_pass_ = 1, last_pass_ = 0;
   std::size_t largest_ = 0;                     // bytes of the largest chunk's lists, to halve on a refusal
   std::size_t slice_pairs_ = kFirstSlicePairs;  // run_slices' next slice
   std::vector<double> halo_;
 };
+
+// The cloud's passes (`own`) and the twin's, over the same prepared cloud and lists; returns the
+// cloud's normals. One process's two runs take turns pass by pass while the lists stay whole on
+// the backend, so the twin runs no pass past the cloud's last (--auto's Stein estimate ends the
+// cloud's passes two past its best, where the twin had run its whole budget: 3 of the rule's 8 on
+// a clean tilted cloud, docs/auto.md "Time"). Otherwise the twin's passes all run first: chunked
+// lists would be filled again at every turn, and a distributed run's processes must all take
+// their halo exchanges in one order. The summary is the cloud's run; its list and upload times
+// count both.
+std::vector<double> run_beside_twin(Passes& own, FilterBackend& backend, const FilterOptions& options,
+                                    PreparedCloud& prepared, ListCounts& lists, const FilterParams& params,
+                                    const ProgressCallback& progress, const TwinRun& twin, bool one_process,
+                                    FilterSummary& summary) {
+  FilterSummary twin_summary = summary;
+  twin_summary.neighbour_seconds = twin_summary.upload_seconds = 0;
+  std::vector<double> mine = std::move(prepared.normals);
+  prepared.normals = unit_rows(twin.normals, &prepared.order);
+  Passes twin_passes(backend, options, prepared, lists, params, progress, twin.part, twin_summary);
+  const int last = params.iterations;
+  bool by_turns = one_process && twin_passes.plans_whole_lists();
+  std::vector<double> theirs = twin_passes.run(1, by_turns ? 1 : last);
+  if (by_turns && !twin_passes.whole_lists_loaded()) {  // the device refused the whole lists
+    by_turns = false;
+    if (!twin_passes.ended() && last > 1) {
+      prepared.normals = std::move(theirs);
+      twin_passes.run(2, last);
+    }
+  }
+  if (twin_passes.whole_lists_loaded()) {
+    own.reuse_whole_lists();
+    twin_passes.reuse_whole_lists();
+  }
+  for (int pass = 1;; ++pass) {
+    prepared.normals = std::move(mine);
+    mine = own.run(pass, by_turns ? pass : last);
+    if (!by_turns || own.ended() || pass == last) break;
+    if (!twin_passes.ended()) {
+      prepared.normals = std::move(theirs);
+      theirs = twin_passes.run(pass + 1, pass + 1);
+    }
+  }
+  summary.neighbour_seconds += twin_summary.neighbour_seconds;
+  summary.upload_seconds += twin_summary.upload_seconds;
+  summary.allocation_retries += twin_summary.allocation_retries;
+  return mine;
+}
 
 // Checks what run_filter is given before any work.
 void check_run(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
@@ -432,16 +499,12 @@ FilterSummary run_filter(FilterBackend& backend, const FilterOptions& options, c
   } else {
     Passes passes(backend, options, prepared, lists, params, progress, part, summary);
     if (twin) {
-      // The twin's passes first, on the same order and lists; the summary's list and upload
-      // times count both runs, its passes are the cloud's own.
-      std::vector<double> own = std::move(prepared.normals);
-      prepared.normals = unit_rows(twin->normals, &prepared.order);
-      Passes twin_passes(backend, options, prepared, lists, params, progress, twin->part, summary);
-      twin_passes.run();
-      prepared.normals = std::move(own);
-      if (twin_passes.whole_lists_loaded()) passes.reuse_whole_lists();
+      const bool one_process = !part || part->one_process;
+      normals =
+          run_beside_twin(passes, backend, options, prepared, lists, params, progress, *twin, one_process, summary);
+    } else {
+      normals = passes.run(1, params.iterations);
     }
-    normals = passes.run();
     summary.device_bytes = backend.device_bytes();
   }
   for (std::size_t k = 0; k < owned; ++k) {

@@ -61,12 +61,14 @@ class NormalFilter {
   FilterSummary run_observed(const CloudView& cloud, MutableVec3ArrayView normals_out, const FilterParams& params,
                              const PassObserver& observe, const ProgressCallback& progress = {});
 
-  // run_observed, after the same passes from other normals on the same positions
+  // run_observed, beside the same passes from other normals on the same positions
   // (`twin_normals`, N rows, such as the input nudged to probe the filter) over the same
   // neighbour lists, built once as they depend on the positions only: `observe_twin` sees the
-  // twin's passes (and may end them) and its normals are then dropped. The summary is the
-  // cloud's run; its list and upload times count both. Throws as run does, for the twin's
-  // normals too.
+  // twin's passes (and may end them) and its normals are then dropped. Each twin pass runs just
+  // before the cloud's pass of that number, so the twin runs no pass past the cloud's last where
+  // the lists stay whole on the device; where they are filled chunk by chunk, the twin's passes
+  // all run first. The summary is the cloud's run; its list and upload times count both. Throws
+  // as run does, for the twin's normals too.
   FilterSummary run_observed_after_twin(const CloudView& cloud, const Vec3ArrayView& twin_normals,
                                         const PassObserver& observe_twin, MutableVec3ArrayView normals_out,
                                         const FilterParams& params, const PassObserver& observe,

@@ -29,8 +29,8 @@ bool is_setting(const FilterParams& a, const FilterParams& b) {
 }
 
 // improve_normals_auto where Stein's estimate decides (detail::stein_decides): for each setting,
-// its passes from the probed input first (every pass of its budget, kept at the estimate's
-// samples), then from the input over the same neighbour lists (the twin run), each pass estimated as it ends; the
+// its passes from the probed input (kept at the estimate's samples) and from the input over the
+// same neighbour lists, in turn pass by pass (the twin run), each pass estimated as it ends; the
 // passes end two past the setting's lowest estimate, and the lowest of all settings is kept if the surface judge does
 // not score it above the input (a veto against a noise estimate gone wrong); the judge scores only the pass kept.
 // `input`: the input normals, unit.
@@ -57,6 +57,8 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
     std::vector<double> risk_by_pass = {risk.input_risk_deg()};
     int best_pass_here = 0;
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      // The probed run's stop rule may have ended it before this pass, which then has no estimate.
+      if (std::size_t(pass) > probed_by_pass.size()) return false;
       risk_by_pass.push_back(risk.risk_deg(risk.at_samples(normals.data()), probed_by_pass[std::size_t(pass) - 1]));
       if (risk_by_pass.back() < risk_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
       if (risk_by_pass.back() < best_risk) {
@@ -65,9 +67,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
         best_candidate = c;
         run.passes_kept = pass;
       }
-      // The probed run's stop rule may have ended it a pass early.
-      return !detail::judged_passes_end(risk_by_pass, best_pass_here, detail::kNoBar, params.iterations) &&
-             std::size_t(pass) < probed_by_pass.size();
+      return !detail::judged_passes_end(risk_by_pass, best_pass_here, detail::kNoBar, params.iterations);
     };
     const FilterSummary summary =
         filter.run_observed_after_twin(cloud, Vec3ArrayView(probed_input.data(), cloud.size()), after_probed_pass,
