@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "auto/judged_passes.hpp"
@@ -152,6 +153,28 @@ TEST(ImproveNormalsAuto, KeepsThePassSteinsEstimateFindsBestOnIndependentErrors)
     best = std::min(best, rms_deg(trial, sphere_truth()));
   }
   EXPECT_LE(kept, 1.05 * best) << run.choice.judged;
+}
+
+// Where Stein's estimate decides, the probed twin and the setting's run take turns pass by pass
+// (filter_engine.cpp): a cancel after the third pass report (the twin's second pass, after the
+// twin's first and the run's first) ends the run there, and nothing is written.
+TEST(ImproveNormalsAuto, CanBeCancelledBetweenTheTwinsTurns) {
+  const PointCloud& c = tilted_sphere();
+  std::vector<Vec3> out(c.size(), Vec3{0, 0, 0});
+  std::vector<int> passes;
+  const ProgressCallback cancel_at_the_third = [&](const PassProgress& p) {
+    if (p.stage == ProgressStage::pass) passes.push_back(p.pass);
+    return passes.size() < 3;
+  };
+  try {
+    improve_normals_auto(c, MutableVec3ArrayView(out), fastest_filter(), cancel_at_the_third);
+    FAIL() << "not cancelled";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::cancelled) << e.what();
+    EXPECT_NE(std::string(e.what()).find("after pass 2"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(passes, (std::vector<int>{1, 1, 2}));  // twin, run, twin
+  EXPECT_EQ(out[0][0], 0.0);
 }
 
 // In place (the output is the cloud's own normals) as out of place: every run of every setting,
