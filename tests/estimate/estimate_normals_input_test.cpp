@@ -27,6 +27,7 @@ namespace pnf {
 namespace {
 
 using namespace pnf::test::estimate;
+using pnf::test::expect_error;
 
 TEST(EstimateNormals, DuplicatedPointsAreHandled) {
   // Every point twice. A point's own index need not come first among its zero-distance results,

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "expect_error.hpp"
 #include "pnf/error.hpp"
 #include "pnf/estimate_normals.hpp"
 
@@ -219,17 +220,4 @@ inline BruteForceFit brute_force_fit(const std::vector<Vec3>& positions, std::si
   return {{n[0], n[1], n[2]}, {values[0], values[1], values[2]}};
 }
 
-template <class Code>
-inline void expect_error(const std::function<void()>& call, ErrorCode code, const Code& needles) {
-  try {
-    call();
-    ADD_FAILURE() << "no pnf::Error thrown";
-  } catch (const Error& error) {
-    EXPECT_EQ(error.code(), code) << error.what();
-    for (const std::string& needle : needles) {
-      EXPECT_NE(std::string(error.what()).find(needle), std::string::npos)
-          << "'" << error.what() << "' does not mention '" << needle << "'";
-    }
-  }
-}
 }  // namespace pnf::test::estimate
