@@ -32,7 +32,10 @@ class RefusingBackend : public FilterBackend {
   explicit RefusingBackend(std::size_t limit) : inner_(pnf::detail::make_reference_backend(1)), limit_(limit) {}
   std::string description() const override { return "refusing test backend"; }
   std::size_t max_list_bytes() const override { return inner_->max_list_bytes(); }
-  void upload_cloud(const std::vector<double>& p, const std::vector<double>& n) override { inner_->upload_cloud(p, n); }
+  void upload_cloud(const std::vector<double>& p, const std::vector<double>& n) override {
+    ++uploads;
+    inner_->upload_cloud(p, n);
+  }
   ListStorage begin_lists(std::size_t first, std::size_t count, std::size_t pairs) override {
     if (pairs * 4 + (count + 1) * 8 > limit_) {
       ++refusals;
@@ -51,7 +54,8 @@ class RefusingBackend : public FilterBackend {
   std::vector<double> download_normals() override { return inner_->download_normals(); }
   void replace_normals(const std::vector<double>& n) override { inner_->replace_normals(n); }
   int refusals = 0;
-  int fills = 0;  // chunks' lists written
+  int fills = 0;    // chunks' lists written
+  int uploads = 0;  // positions and normals sent
 
  private:
   std::unique_ptr<FilterBackend> inner_;
@@ -105,7 +109,8 @@ TEST(FilterEngine, ChunkedPassesRefillOneChunkFewerAfterTheFirst) {
 
 TEST(FilterEngine, ATwinRunFillsTheListsOnceOrAsTheChunksAsk) {
   // One chunk: the lists stay on the device for both sets' passes. Chunked: each set's passes
-  // refill their chunks as a run alone does.
+  // refill their chunks as a run alone does. Either way the positions go up once: the two sets'
+  // turns send only their normals.
   pnf::PointCloud ball = noisy_sphere(3000, 3);
   pnf::FilterOptions options{pnf::Device::reference()};
   pnf::FilterParams params;
@@ -116,12 +121,14 @@ TEST(FilterEngine, ATwinRunFillsTheListsOnceOrAsTheChunksAsk) {
   const pnf::FilterSummary one = pnf::detail::run_filter(whole, options, ball, out, params, {}, nullptr, &twin);
   ASSERT_EQ(one.chunks, 1u);
   EXPECT_EQ(whole.fills, 1);
+  EXPECT_EQ(whole.uploads, 1);
   options.memory.budget_bytes = one.neighbour_pairs * 4 / 3;  // about a third of the lists at a time
   RefusingBackend chunked(std::size_t(1) << 40);
   const pnf::FilterSummary three = pnf::detail::run_filter(chunked, options, ball, out, params, {}, nullptr, &twin);
   const int n = int(three.chunks);
   ASSERT_GE(n, 3);
   EXPECT_EQ(chunked.fills, 2 * (n + (params.iterations - 1) * (n - 1)));
+  EXPECT_EQ(chunked.uploads, 1);
 }
 
 TEST(FilterEngine, ADeviceThatFitsNotEvenOneListIsAClearError) {

@@ -149,6 +149,9 @@ class Passes {
   // The lists of one whole chunk are on the backend already, from a run over the same prepared
   // cloud and lists (run_filter's twin): the passes use them as they are.
   void reuse_whole_lists() { reuse_whole_lists_ = true; }
+  // The prepared cloud's positions are on the backend already (another run over it put them
+  // there): the passes upload only their normals.
+  void reuse_positions() { cloud_on_backend_ = true; }
   // Whether the run left the lists of one whole chunk on the backend.
   bool whole_lists_loaded() const { return whole_lists_loaded_; }
   // Whether the passes have ended before params.iterations: the stop rule or the part said so.
@@ -280,7 +283,13 @@ class Passes {
     largest_ = 0;
     halo_.assign(3 * (prepared_.order.size() - owned), 0.0);
     auto start = Clock::now();
-    backend_.upload_cloud(prepared_.search->positions(), prepared_.normals);
+    // The positions go up once; a later turn (run_beside_twin) or retry sends only its normals.
+    if (cloud_on_backend_) {
+      backend_.replace_normals(prepared_.normals);
+    } else {
+      backend_.upload_cloud(prepared_.search->positions(), prepared_.normals);
+      cloud_on_backend_ = true;
+    }
     summary_.upload_seconds += seconds_since(start);
 
     const bool whole = chunks.size() == 1;
@@ -333,6 +342,7 @@ class Passes {
   bool reuse_whole_lists_ = false;
   bool whole_lists_loaded_ = false;
   bool ended_ = false;
+  bool cloud_on_backend_ = false;
   int first_pass_ = 1, last_pass_ = 0;
   std::size_t largest_ = 0;                     // bytes of the largest chunk's lists, to halve on a refusal
   std::size_t slice_pairs_ = kFirstSlicePairs;  // run_slices' next slice
@@ -366,6 +376,7 @@ std::vector<double> run_beside_twin(Passes& own, FilterBackend& backend, const F
       twin_passes.run(2, last);
     }
   }
+  own.reuse_positions();
   if (twin_passes.whole_lists_loaded()) {
     own.reuse_whole_lists();
     twin_passes.reuse_whole_lists();
