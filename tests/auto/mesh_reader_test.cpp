@@ -10,6 +10,7 @@
 #include <string>
 
 #include "real_meshes.hpp"
+#include "temp_dir.hpp"
 
 namespace pnf::test {
 namespace {
@@ -19,7 +20,7 @@ using eval::Mesh;
 class RealMeshFiles : public ::testing::Test {
  protected:
   std::string write(const std::string& name, const std::string& text) {
-    const std::string path = ::testing::TempDir() + "real_meshes_test_" + name;
+    const std::string path = (folder_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
@@ -35,6 +36,9 @@ class RealMeshFiles : public ::testing::Test {
       EXPECT_NE(message.find(what), std::string::npos) << message;
     }
   }
+
+ private:
+  TempDir folder_{"pnf_mesh_reader_test_"};
 };
 
 TEST_F(RealMeshFiles, ReadsOffAndPly) {

@@ -41,17 +41,34 @@ int ranks() {
   return p;
 }
 
-// A folder of its own for each test and rank count, made by rank 0 and seen by every rank.
-fs::path work_folder(const std::string& name) {
-  const fs::path folder = fs::temp_directory_path() / ("pnf_filter_file_" + name + "_np" + std::to_string(ranks()) +
-                                                       "_" + std::to_string(::getppid()));
-  if (rank() == 0) {
-    fs::remove_all(folder);
-    fs::create_directories(folder);
+// A folder of its own for each test and rank count, made by rank 0 and seen by every rank, and
+// removed by rank 0 when the test ends (every rank past its last use of it), so that runs leave
+// nothing behind in the temporary folder.
+class WorkFolder {
+ public:
+  explicit WorkFolder(const std::string& name)
+      : path_(fs::temp_directory_path() /
+              ("pnf_filter_file_" + name + "_np" + std::to_string(ranks()) + "_" + std::to_string(::getppid()))) {
+    if (rank() == 0) {
+      fs::remove_all(path_);
+      fs::create_directories(path_);
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
   }
-  MPI_Barrier(MPI_COMM_WORLD);
-  return folder;
-}
+  ~WorkFolder() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    std::error_code ignored;
+    if (rank() == 0) fs::remove_all(path_, ignored);
+  }
+  WorkFolder(const WorkFolder&) = delete;
+  WorkFolder& operator=(const WorkFolder&) = delete;
+
+  operator const fs::path&() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
 
 // The house, binary PLY, 4000 points: small enough for the reference backend on 4 ranks on 2 cores.
 fs::path house_file(const fs::path& folder) {
@@ -81,7 +98,7 @@ std::vector<std::string> others(const fs::path& folder, std::initializer_list<st
 // The whole binary PLY path (each rank its rows) and the rank-0 path (.xyzn out) against one
 // process on the same file.
 TEST(FilterFile, OneCallMatchesOneProcess) {
-  const fs::path folder = work_folder("match");
+  const WorkFolder folder("match");
   const fs::path in = house_file(folder);
   const FilterFileOptions o = reference_run();
   const PointCloud cloud = read_point_file(in.string()).cloud();
@@ -108,7 +125,7 @@ TEST(FilterFile, OneCallMatchesOneProcess) {
 // --max-pairs is the whole job's: a limit between one rank's share and the job's total refuses
 // (invalid_argument, as one process refuses it) and writes nothing.
 TEST(FilterFile, PairLimitIsTheWholeJobs) {
-  const fs::path folder = work_folder("pairs");
+  const WorkFolder folder("pairs");
   const fs::path in = house_file(folder);
   FilterFileOptions o = reference_run();
   o.params.iterations = 1;
@@ -156,7 +173,7 @@ TEST(FilterFile, PairLimitIsTheWholeJobs) {
 // A cancel that comes as the file is about to take OUT's name (a SIGTERM during the write, on
 // the last rank): every rank throws cancelled, OUT keeps its old bytes, nothing is left beside it.
 TEST(FilterFile, CancelBeforeTheCommitLeavesOutUntouched) {
-  const fs::path folder = work_folder("cancel");
+  const WorkFolder folder("cancel");
   const fs::path in = house_file(folder);
   const fs::path out = folder / "out.ply";
   if (rank() == 0) std::ofstream(out) << "old";
@@ -190,7 +207,7 @@ TEST(FilterFile, CancelBeforeTheCommitLeavesOutUntouched) {
 // A job killed while it wrote leaves its staging folder (no process holds its lock any more):
 // the next run writing OUT removes it; a folder whose lock is held (a job still writing) stays.
 TEST(FilterFile, NextRunRemovesAKilledJobsStagingFolder) {
-  const fs::path folder = work_folder("stale");
+  const WorkFolder folder("stale");
   const fs::path in = house_file(folder);
   const fs::path out = folder / "out.ply";
   const fs::path stale = folder / ".out.ply.pnf-mpi-99999-abcdef", live = folder / ".out.ply.pnf-mpi-99998-abcdef";
@@ -219,7 +236,7 @@ TEST(FilterFile, NextRunRemovesAKilledJobsStagingFolder) {
 // OUT a symbolic link to a private file: the file it leads to is replaced, keeping its
 // permission bits, and the link stays (as one process's write does: AtomicWrite's tests).
 TEST(FilterFile, WritesThroughALinkAndKeepsThePermissions) {
-  const fs::path folder = work_folder("link");
+  const WorkFolder folder("link");
   const fs::path in = house_file(folder);
   const fs::path real = folder / "data" / "real.ply", link = folder / "out.ply";
   if (rank() == 0) {
@@ -248,7 +265,7 @@ TEST(FilterFile, WritesThroughALinkAndKeepsThePermissions) {
 // their own rows (binary PLY to PLY) or rank 0 reads the file (to .xyz); unread, and no error,
 // where the mean radius is given.
 TEST(FilterFile, BadRadiusPropertyNamesItsRowUnlessItIsNotRead) {
-  const fs::path folder = work_folder("radius");
+  const WorkFolder folder("radius");
   const fs::path in = folder / "radius.ply";
   PointCloud cloud = make_scanned_house(4000).cloud;
   cloud.radii.assign(cloud.size(), 0.05);
@@ -277,7 +294,7 @@ TEST(FilterFile, BadRadiusPropertyNamesItsRowUnlessItIsNotRead) {
 
 // What one process refuses before reading, every rank refuses alike.
 TEST(FilterFile, BadPathsAreRefusedOnEveryRank) {
-  const fs::path folder = work_folder("paths");
+  const WorkFolder folder("paths");
   const fs::path in = house_file(folder);
   for (const fs::path& out : {folder / "out.obj", in}) {
     try {
