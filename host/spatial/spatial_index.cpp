@@ -29,33 +29,26 @@ namespace {
 using Distance = flann::L2<double>;  // NB: FLANN's L2 is the SQUARED Euclidean distance
 using Clock = std::chrono::steady_clock;
 
-// Collects the ids of a candidate search.
+// Hands each point a radius search finds to `collect` (its squared distance and id): the ids of
+// a candidate search, or the ids with their distances. The search's limit stays fixed.
+template <class Collect>
 class CollectingResultSet : public flann::ResultSet<double> {
  public:
-  CollectingResultSet(double squared_limit, std::vector<std::uint32_t>& out)
-      : squared_limit_(squared_limit), out_(out) {}
+  CollectingResultSet(double squared_limit, Collect collect)
+      : squared_limit_(squared_limit), collect_(std::move(collect)) {}
   bool full() const override { return true; }
-  void addPoint(double, size_t index) override { out_.push_back(static_cast<std::uint32_t>(index)); }
+  void addPoint(double squared_distance, size_t index) override { collect_(squared_distance, index); }
   double worstDist() const override { return squared_limit_; }
 
  private:
   double squared_limit_;
-  std::vector<std::uint32_t>& out_;
+  Collect collect_;
 };
 
-// Collects a radius search's ids with their squared distances.
-class DistanceCollectingResultSet : public flann::ResultSet<double> {
- public:
-  DistanceCollectingResultSet(double squared_limit, std::vector<std::pair<double, std::size_t>>& out)
-      : squared_limit_(squared_limit), out_(out) {}
-  bool full() const override { return true; }
-  void addPoint(double squared_distance, size_t index) override { out_.emplace_back(squared_distance, index); }
-  double worstDist() const override { return squared_limit_; }
-
- private:
-  double squared_limit_;
-  std::vector<std::pair<double, std::size_t>>& out_;
-};
+// A candidate search's ids, appended to `out`.
+auto collect_ids(double squared_limit, std::vector<std::uint32_t>& out) {
+  return CollectingResultSet(squared_limit, [&out](double, size_t index) { out.push_back(std::uint32_t(index)); });
+}
 
 // FLANN keeps a k-nearest search's best in a heap from k = 250 up (its KNN_HEAP_THRESHOLD), and
 // that heap's upkeep was most of --auto's estimate, whose scales reach 1024-4096 neighbours. From
@@ -208,7 +201,7 @@ void SpatialIndex::for_each_point(double radius, std::size_t first, std::size_t 
         } else {
           const double reach = (radius + std::sqrt(half_diagonal2)) * (1 + kCandidateMargin);
           s.ids.clear();
-          CollectingResultSet result(reach * reach, s.ids);
+          auto result = collect_ids(reach * reach, s.ids);
           tree_->index.findNeighbors(result, centre, params);
           std::sort(s.ids.begin(), s.ids.end());  // ascending ids: lists that walk memory forward
         }
@@ -334,7 +327,7 @@ double SpatialIndex::estimate_pairs(double radius) const {
     for (std::int64_t s = 0; s < n; ++s) {
       const std::size_t i = static_cast<std::size_t>(s) * point_count_ / samples;
       ids.clear();
-      CollectingResultSet result(radius2 * (1 + kCandidateMargin), ids);
+      auto result = collect_ids(radius2 * (1 + kCandidateMargin), ids);
       tree_->index.findNeighbors(result, &positions_[3 * i], params);
       sampled[s] = double(ids.size());
     }
@@ -445,7 +438,8 @@ void SpatialIndex::nearest_of_point(std::size_t point, std::size_t k, std::size_
     found.reserve(2 * k);
     for (int widening = 0; limit > 0 && widening <= kMaxWidenings; ++widening, limit *= kWidening) {
       found.clear();
-      DistanceCollectingResultSet within(limit, found);
+      CollectingResultSet within(
+          limit, [&found](double squared_distance, size_t index) { found.emplace_back(squared_distance, index); });
       tree_->index.findNeighbors(within, query, exact_search());
       if (found.size() < k) continue;
       // Every point nearer than the limit was found, so the k nearest of them are the cloud's.
