@@ -5,7 +5,8 @@
 # auto_row_order_test: the same estimate, choice and normals whatever the input's row order;
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
-# judged_pass_budget_test: the passes the judge may run; judge_arithmetic_test: the judge's vector exp and sums; stein_risk_test: Stein's risk estimate,
+# judged_pass_budget_test: the passes the judge may run; noisy_fallback_test: the one wide pass
+# tried on noisy positions where the judged settings keep the input; judge_arithmetic_test: the judge's vector exp and sums; stein_risk_test: Stein's risk estimate,
 # the noise it takes and the passes it keeps; sample_neighbourhoods_test: the samples'
 # searches the estimate and the judge share; auto_real_meshes_test: --auto on the
 # team's meshes where it once did harm;
@@ -20,6 +21,7 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/independent_errors_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/judged_pass_budget_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/surface_judge_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/noisy_fallback_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/judge_arithmetic_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/stein_risk_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/sample_neighbourhoods_test.cpp

@@ -18,6 +18,7 @@
 #include "pnf/bounding_box.hpp"
 #include "pnf/device.hpp"
 #include "pnf/error.hpp"
+#include "pnf/estimate_normals.hpp"
 #include "pnf/improve_normals.hpp"
 #include "pnf/improve_normals_auto.hpp"
 #include "pnf/mean_radius.hpp"
@@ -331,9 +332,6 @@ TEST(MpiFilter, DeviceErrorOnOneRank) {
 
 }  // namespace
 
-// Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
-// process's estimate_data message) rather than a bare "too few points", also when the failing
-// slices are not rank 0's.
 // --auto across the ranks is one process's --auto on the concatenation of the ranks' rows: the
 // same estimate, rule, judged scores and passes, and the same normals, bit for bit, for any
 // partition, here of the house with its rows in random order.
@@ -370,6 +368,39 @@ TEST(MpiAuto, ChoosesJudgesAndFiltersAsOneProcess) {
   }
 }
 
+// The same where the judged settings keep the input and the fallback's one wide pass is judged
+// (the noisy house with PCA-16 normals: lib/src/auto/judged_passes.hpp, tries_fallback).
+TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
+  ScanNoise noise;
+  noise.position = 0.5;
+  PointCloud cloud = make_scanned_house(6000, noise).cloud;
+  EstimateParams pca;
+  pca.orientation = Orientation::outward;
+  cloud.normals = estimate_normals(cloud.positions, pca);
+  NormalFilter filter(reference_options());
+  std::vector<Vec3> expected(cloud.size());
+  const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
+  ASSERT_NE(one.choice.judged.find(": the fallback, 1 pass kept"), std::string::npos) << one.choice.judged;
+  for (const Split& split : {Split(even), Split(uneven)}) {
+    const std::vector<std::size_t> first = split(cloud.size(), ranks());
+    const std::size_t begin = first[std::size_t(rank())], end = first[std::size_t(rank()) + 1];
+    const PointCloud part = slice(cloud, begin, end);
+    std::vector<Vec3> normals(part.size());
+    const mpi::DistributedAutoRun run =
+        mpi::improve_normals_auto(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), reference_options());
+    EXPECT_EQ(run.choice.judged, one.choice.judged);
+    EXPECT_EQ(run.passes_kept, one.passes_kept);
+    EXPECT_EQ(run.choice.params.sigma_f, one.choice.params.sigma_f);
+    EXPECT_EQ(run.choice.params.sigma_g, one.choice.params.sigma_g);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < part.size(); ++i) differ += normals[i] != expected[begin + i];
+    EXPECT_EQ(differ, 0u) << "normals not one process's";
+  }
+}
+
+// Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
+// process's estimate_data message) rather than a bare "too few points", also when the failing
+// slices are not rank 0's.
 TEST(MpiAuto, UnestimableCloudIsRefusedWithItsCause) {
   PointCloud cloud;
   for (int i = 0; i < 3000; ++i) {

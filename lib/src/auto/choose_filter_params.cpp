@@ -334,6 +334,15 @@ FilterParams detail::plain_averaging_setting(const AutoChoice& choice) {
   return p;
 }
 
+FilterParams detail::fallback_setting(const AutoChoice& choice) {
+  FilterParams p = choice.params;
+  p.sigma_f = FilterParams().sigma_f;
+  p.sigma_g = p.sigma_f / 2;
+  p.units = Units::radius;
+  p.iterations = 1;
+  return p;
+}
+
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
 bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterParams& params) {

@@ -149,9 +149,23 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
 
 std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
   if (passes_kept == 0) return ": the input normals kept";
-  const char* names[] = {"the rule's setting", "the other setting", "the third setting"};
-  return std::string(": ") + names[std::min<std::size_t>(best_candidate, 2)] + ", " + std::to_string(passes_kept) +
+  const char* names[] = {"the rule's setting", "the other setting", "the third setting", "the fallback"};
+  return std::string(": ") + names[std::min(best_candidate, kFallbackCandidate)] + ", " + std::to_string(passes_kept) +
          (passes_kept == 1 ? " pass kept" : " passes kept");
+}
+
+bool detail::tries_fallback(const AutoChoice& choice) { return !judge_geometry(choice.estimate).quarter_allowed; }
+
+double detail::fallback_to_beat(double input_rms_deg, double own_error_deg) {
+  return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0));
+}
+
+std::string detail::judged_fallback(const FilterParams& params, const std::vector<double>& rms_by_pass,
+                                    double to_beat) {
+  std::string text = "; fallback sigma_f " + number(params.sigma_f) + ", sigma_g " + number(params.sigma_g) +
+                     " (to beat: " + number(to_beat) + ")";
+  for (std::size_t pass = 1; pass < rms_by_pass.size(); ++pass) text += " " + number(rms_by_pass[pass]);
+  return text;
 }
 
 bool detail::stein_decides(const AutoChoice& choice) {
@@ -246,8 +260,29 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     judged += detail::judged_candidate(c, params, rms_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
   }
+  const FilterParams fallback = detail::fallback_setting(run.choice);
+  if (run.passes_kept == 0 && detail::tries_fallback(run.choice)) {
+    const double to_beat = detail::fallback_to_beat(input_rms, own_error);
+    std::vector<double> rms_by_pass = {input_rms};
+    auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      rms_by_pass.push_back(judge.rms_deg(normals.data()));
+      if (rms_by_pass.back() < to_beat) {
+        best = normals;
+        best_candidate = detail::kFallbackCandidate;
+        run.passes_kept = pass;
+      }
+      return true;
+    };
+    const FilterSummary summary =
+        filter.run_observed(cloud, MutableVec3ArrayView(scratch), fallback, after_pass, progress);
+    if (run.passes_kept > 0) run.summary = summary;
+    judged += detail::judged_fallback(fallback, rms_by_pass, to_beat);
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
+  }
   for (std::size_t i = 0; i < cloud.size(); ++i) normals_out.set(i, {best[3 * i], best[3 * i + 1], best[3 * i + 2]});
-  if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
+  if (run.passes_kept > 0) {
+    run.choice.params = best_candidate == detail::kFallbackCandidate ? fallback : candidates[best_candidate];
+  }
   run.choice.judged = judged + detail::judged_outcome(best_candidate, run.passes_kept);
   run.choice.params.iterations = run.passes_kept;
   return run;

@@ -62,8 +62,10 @@ class JudgedPasses {
     judging_.own_error_deg = numbers[1];
     judging_.fit_points = int(numbers[2]);
     judging_.samples = std::size_t(numbers[3]);
-    // A pass must beat the input by more than the judge's own error explains.
-    best_rms_ = pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
+    // A pass must beat the input by more than the judge's own error explains (the fallback's bar
+    // is the half of it judged_passes.hpp explains).
+    best_rms_ = judging_.fallback ? pnf::detail::fallback_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg)
+                                  : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
     judging_.best_pass = 0;
   }
 

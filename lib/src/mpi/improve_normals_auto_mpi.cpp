@@ -168,9 +168,29 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     }
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
+  const FilterParams fallback = pnf::detail::fallback_setting(run.choice);
+  if (run.passes_kept == 0 && pnf::detail::tries_fallback(run.choice)) {
+    detail::PassJudging judging;
+    judging.root = rank == 0 ? &root : nullptr;
+    judging.budget = fallback.iterations;
+    judging.fallback = true;
+    const DistributedSummary summary =
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), fallback, options, progress, &judging);
+    judged += pnf::detail::judged_fallback(
+        fallback, judging.rms_by_pass, pnf::detail::fallback_to_beat(judging.rms_by_pass[0], judging.own_error_deg));
+    if (judging.best_pass > 0) {
+      best_candidate = pnf::detail::kFallbackCandidate;
+      run.passes_kept = judging.best_pass;
+      best.swap(trial);
+      run.summary = summary;
+    }
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
+  }
   for (std::size_t i = 0; i < local.size(); ++i) normals_out.set(i, best[i]);
   judged += pnf::detail::judged_outcome(best_candidate, run.passes_kept);
-  if (run.passes_kept > 0) run.choice.params = candidates[best_candidate];
+  if (run.passes_kept > 0) {
+    run.choice.params = best_candidate == pnf::detail::kFallbackCandidate ? fallback : candidates[best_candidate];
+  }
   run.choice.judged = judged;
   run.choice.params.iterations = run.passes_kept;
   return run;

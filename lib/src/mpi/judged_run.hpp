@@ -32,6 +32,7 @@ struct PassJudging {
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
   std::size_t samples = 0;          // the judge's samples
+  bool fallback = false;            // judged against pnf::detail::fallback_to_beat, not rms_to_beat
   // The run from the probed input where Stein's estimate decides (every rank): its passes are
   // only recorded, all of `budget` (or as many as the stop rule lets run: `passes`).
   bool probing = false;

@@ -1,0 +1,96 @@
+// --auto's fallback on noisy positions (lib/src/auto/judged_passes.hpp, tries_fallback): where
+// the judged settings keep the input and the positions are not clean, one wide pass at the
+// paper's sigma_f is judged against the input's score less the judge's own error in quadrature.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "auto/judged_passes.hpp"
+#include "auto/surface_judge.hpp"
+#include "crease_clouds.hpp"
+#include "pnf/improve_normals_auto.hpp"
+#include "pnf/synthetic_shapes.hpp"
+
+namespace pnf::test {
+namespace {
+
+// The scanned house (6000 points, half a spacing of position noise) with PCA normals over k
+// points, turned to the true side.
+struct NoisyHouse {
+  PointCloud cloud;
+  std::vector<Vec3> truth;
+};
+NoisyHouse noisy_house(int k) {
+  ScanNoise noise;
+  noise.position = 0.5;
+  const SyntheticCloud house = make_scanned_house(6000, noise);
+  NoisyHouse h{house.cloud, house.true_normals};
+  EstimateParams params;
+  params.k = k;
+  params.orientation = Orientation::outward;
+  h.cloud.normals = estimate_normals(h.cloud.positions, params);
+  for (std::size_t i = 0; i < h.truth.size(); ++i) {
+    const Vec3 n = h.cloud.normals[i];
+    if (dot(n, h.truth[i]) < 0) h.cloud.normals[i] = {-n[0], -n[1], -n[2]};
+  }
+  return h;
+}
+
+// The rule's passes over PCA-16 normals of the noisy house stay above the judge's full bar; the
+// fallback's one pass beats the input's score less the judge's own error, and is kept: the
+// fallback's own run, and truly better than the input.
+TEST(NoisyFallback, KeepsItsPassWhereTheJudgeVouchesForIt) {
+  NoisyHouse h = noisy_house(16);
+  NormalFilter& filter = fastest_filter();
+  std::vector<Vec3> out(h.cloud.size());
+  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), filter);
+  const std::string& judged = run.choice.judged;
+  ASSERT_NE(judged.find("; fallback sigma_f 4, sigma_g 2"), std::string::npos) << judged;
+  EXPECT_NE(judged.find(": the fallback, 1 pass kept"), std::string::npos) << judged;
+  EXPECT_EQ(run.passes_kept, 1);
+  EXPECT_EQ(run.choice.params.sigma_f, FilterParams().sigma_f);
+  EXPECT_EQ(run.choice.params.sigma_g, FilterParams().sigma_f / 2);
+  EXPECT_EQ(run.choice.params.units, Units::radius);
+  EXPECT_EQ(run.choice.params.iterations, 1);
+  std::vector<Vec3> direct(h.cloud.size());
+  filter.run(h.cloud, MutableVec3ArrayView(direct), run.choice.params);
+  // The same pass; a plain run divides its output by its length once more, in double.
+  double most = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], direct[i]));
+  EXPECT_LT(most, 1e-9) << "the kept normals are not the fallback's own run";
+  EXPECT_LT(rms_line_angle(out, h.truth), 0.9 * rms_line_angle(h.cloud.normals, h.truth));
+}
+
+// Over PCA-64 normals of the same house the fallback's pass does not beat its bar: the input
+// normals come back (made unit).
+TEST(NoisyFallback, ReturnsTheInputWhereItsPassMissesTheBar) {
+  NoisyHouse h = noisy_house(64);
+  std::vector<Vec3> out(h.cloud.size());
+  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), fastest_filter());
+  const std::string& judged = run.choice.judged;
+  ASSERT_NE(judged.find("; fallback sigma_f 4"), std::string::npos) << judged;
+  EXPECT_NE(judged.find(": the input normals kept"), std::string::npos) << judged;
+  EXPECT_EQ(run.passes_kept, 0);
+  double most = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], h.cloud.normals[i]));
+  EXPECT_LT(most, 1e-6);
+}
+
+// Only where the positions are not clean (the judge's quarter refused), and its bar is the
+// input's score with the judge's own error taken out in quadrature.
+TEST(NoisyFallback, OnlyOnNoisyPositionsAndBelowTheInputLessTheJudgesError) {
+  AutoChoice choice;
+  choice.estimate.area_spacing = 1;
+  choice.estimate.position_noise = 0.05;
+  EXPECT_FALSE(detail::tries_fallback(choice));
+  choice.estimate.position_noise = 0.1;
+  EXPECT_TRUE(detail::tries_fallback(choice));
+  EXPECT_DOUBLE_EQ(detail::fallback_to_beat(5, 3), 4);
+  EXPECT_EQ(detail::fallback_to_beat(3, 5), 0);
+  EXPECT_LT(detail::rms_to_beat(5, 3), detail::fallback_to_beat(5, 3));
+}
+
+}  // namespace
+}  // namespace pnf::test
