@@ -330,6 +330,28 @@ TEST(MpiFilter, DeviceErrorOnOneRank) {
   }
 }
 
+// --auto across the ranks, each a slice of `cloud` (even and uneven), against one process's run
+// `one` with its normals `expected`: the same rule, judged scores, setting and passes kept, and
+// the same normals, bit for bit.
+void expect_auto_as_one_process(const PointCloud& cloud, const AutoRun& one, const std::vector<Vec3>& expected) {
+  for (const Split& split : {Split(even), Split(uneven)}) {
+    const std::vector<std::size_t> first = split(cloud.size(), ranks());
+    const std::size_t begin = first[std::size_t(rank())], end = first[std::size_t(rank()) + 1];
+    const PointCloud part = slice(cloud, begin, end);
+    std::vector<Vec3> normals(part.size());
+    const mpi::DistributedAutoRun run =
+        mpi::improve_normals_auto(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), reference_options());
+    EXPECT_EQ(run.choice.rule, one.choice.rule);
+    EXPECT_EQ(run.choice.judged, one.choice.judged);
+    EXPECT_EQ(run.passes_kept, one.passes_kept);
+    EXPECT_EQ(run.choice.params.sigma_f, one.choice.params.sigma_f);
+    EXPECT_EQ(run.choice.params.sigma_g, one.choice.params.sigma_g);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < part.size(); ++i) differ += normals[i] != expected[begin + i];
+    EXPECT_EQ(differ, 0u) << "normals not one process's";
+  }
+}
+
 }  // namespace
 
 // --auto across the ranks is one process's --auto on the concatenation of the ranks' rows: the
@@ -352,20 +374,7 @@ TEST(MpiAuto, ChoosesJudgesAndFiltersAsOneProcess) {
   // The house's tilted normals have independent errors: Stein's estimate decides, so its probed
   // runs (each rank nudging its own rows) are checked against one process's too.
   EXPECT_NE(one.choice.judged.find("Stein's risk estimate"), std::string::npos) << one.choice.judged;
-  for (const Split& split : {Split(even), Split(uneven)}) {
-    const std::vector<std::size_t> first = split(shuffled.size(), ranks());
-    const std::size_t begin = first[std::size_t(rank())], end = first[std::size_t(rank()) + 1];
-    const PointCloud part = slice(shuffled, begin, end);
-    std::vector<Vec3> normals(part.size());
-    const mpi::DistributedAutoRun run =
-        mpi::improve_normals_auto(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), reference_options());
-    EXPECT_EQ(run.choice.rule, one.choice.rule);
-    EXPECT_EQ(run.choice.judged, one.choice.judged);
-    EXPECT_EQ(run.passes_kept, one.passes_kept);
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < part.size(); ++i) differ += normals[i] != expected[begin + i];
-    EXPECT_EQ(differ, 0u) << "normals not one process's";
-  }
+  expect_auto_as_one_process(shuffled, one, expected);
 }
 
 // The same where the judged settings keep the input and the fallback's one wide pass is judged
@@ -381,21 +390,7 @@ TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
   std::vector<Vec3> expected(cloud.size());
   const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
   ASSERT_NE(one.choice.judged.find(": the fallback, 1 pass kept"), std::string::npos) << one.choice.judged;
-  for (const Split& split : {Split(even), Split(uneven)}) {
-    const std::vector<std::size_t> first = split(cloud.size(), ranks());
-    const std::size_t begin = first[std::size_t(rank())], end = first[std::size_t(rank()) + 1];
-    const PointCloud part = slice(cloud, begin, end);
-    std::vector<Vec3> normals(part.size());
-    const mpi::DistributedAutoRun run =
-        mpi::improve_normals_auto(MPI_COMM_WORLD, CloudView(part), MutableVec3ArrayView(normals), reference_options());
-    EXPECT_EQ(run.choice.judged, one.choice.judged);
-    EXPECT_EQ(run.passes_kept, one.passes_kept);
-    EXPECT_EQ(run.choice.params.sigma_f, one.choice.params.sigma_f);
-    EXPECT_EQ(run.choice.params.sigma_g, one.choice.params.sigma_g);
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < part.size(); ++i) differ += normals[i] != expected[begin + i];
-    EXPECT_EQ(differ, 0u) << "normals not one process's";
-  }
+  expect_auto_as_one_process(cloud, one, expected);
 }
 
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one

@@ -31,9 +31,11 @@ struct AutoRun {
 // order 2, without the input normals) at the samples where the fit is smooth; the pass whose
 // normals agree best with them is kept, and the input normals (normalised) when none beats them,
 // so on the judged parts of the surface --auto never returns normals further from the positions'
-// surface than its input (docs/auto.md). Writes N unit normals into normals_out (N rows; it may
-// be the cloud's own normals view). A stop_change_deg >= 0 replaces the rule's stop rule (0: off).
-// Throws as choose_filter_params and NormalFilter::run do.
+// surface than its input (docs/auto.md). On noisy positions where no pass beats them, one pass
+// of wide averaging is judged too, against the input's score less the judge's own error in
+// quadrature (docs/auto.md, "The judged fallback on noisy positions"). Writes N unit normals
+// into normals_out (N rows; it may be the cloud's own normals view). A stop_change_deg >= 0
+// replaces the rule's stop rule (0: off). Throws as choose_filter_params and NormalFilter::run do.
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
                              const ProgressCallback& progress = {}, double stop_change_deg = -1);
 
