@@ -30,4 +30,9 @@ using QuadricVector = Eigen::Matrix<double, 6, 1>;
 QuadricMatrix quadric_normal_matrix(const double (&sums)[kQuadricMoments]);
 QuadricVector quadric_right_side(const double (&sums)[kQuadricMoments]);
 
+// The fitted quadric's height at (u, v): c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2.
+inline double quadric_height(const QuadricVector& c, double u, double v) {
+  return c(0) + u * (c(1) + c(3) * u + c(4) * v) + v * (c(2) + c(5) * v);
+}
+
 }  // namespace pnf::detail

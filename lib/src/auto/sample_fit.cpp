@@ -88,9 +88,8 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
   const QuadricVector c = quadric_normal_matrix(sums).ldlt().solve(quadric_right_side(sums));
   double rss = 0;
   for (std::size_t k = 0; k < us.size(); ++k) {
-    const double u = us[k], v = vs[k];
-    const double model = c(0) + c(1) * u + c(2) * v + c(3) * u * u + c(4) * u * v + c(5) * v * v;
-    rss += (heights[k] - model) * (heights[k] - model);
+    const double r = heights[k] - quadric_height(c, us[k], vs[k]);
+    rss += r * r;
   }
   fit.ok = std::isfinite(rss);
   fit.radius = rho;

@@ -52,8 +52,7 @@ QuadricVector weighted_fit(const FramePoints& p, std::size_t count, QuadricMatri
 }
 
 double residual(const FramePoints& p, std::size_t k, const QuadricVector& c) {
-  const double u = p.u[k], v = p.v[k];
-  return p.h[k] - (c(0) + u * (c(1) + c(3) * u + c(4) * v) + v * (c(2) + c(5) * v));
+  return p.h[k] - quadric_height(c, p.u[k], p.v[k]);
 }
 
 // Each point weighted by a Gaussian of its residual to the quadric `c`, of width `w_scale`: the
