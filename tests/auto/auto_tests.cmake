@@ -5,11 +5,11 @@
 # auto_row_order_test: the same estimate, choice and normals whatever the input's row order;
 # crease_evidence_test: the crease measure of lib/src/auto/crease_evidence.hpp by itself;
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
-# judged_pass_budget_test: the passes the judge may run; noisy_fallback_test: the one wide pass
+# judged_pass_budget_test: the settings the judge tries and the passes it may run; noisy_fallback_test: the one wide pass
 # tried on noisy positions where the judged settings keep the input; judge_arithmetic_test: the judge's vector exp and sums; stein_risk_test: Stein's risk estimate,
 # the noise it takes and the passes it keeps; sample_neighbourhoods_test: the samples'
 # searches the estimate and the judge share; auto_real_meshes_test: --auto on the
-# team's meshes where it once did harm;
+# team's meshes where it once did harm or where a judged setting gains;
 # real_meshes_test, mesh_reader_test: the true normals of pnf_eval_real's meshes and point sets,
 # and its readers (bench/real_meshes.hpp, compiled in here with eval_clouds.cpp, which it builds on).
 list(APPEND PNF_TEST_SOURCES

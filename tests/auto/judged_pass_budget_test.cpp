@@ -1,7 +1,7 @@
 // The passes --auto's judge may run (lib/src/auto/judged_passes.hpp, judged_pass_budget): the
 // budget of 8 (or the setting's own passes where more), except on the line for independent
-// normal errors, which runs its own one or two passes at most; and when the passes end
-// (judged_passes_end).
+// normal errors, which runs its own one or two passes at most; the settings judged
+// (judged_candidates); and when the passes end (judged_passes_end).
 #include <gtest/gtest.h>
 
 #include <utility>
@@ -94,6 +94,27 @@ TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
   ASSERT_TRUE(detail::independent_normal_errors(plane));
   EXPECT_FALSE(detail::on_independent_errors_line(plane, plane.params));
   EXPECT_EQ(detail::judged_pass_budget(plane.params, plane), detail::kJudgedPassBudget);
+}
+
+// The judge's second setting for clean positions (smooth_detail_setting): tried beside the rule's
+// where the judge chooses its scale (clean positions, Stein's estimate not deciding), with the
+// whole budget; not on noisy positions, where the judge's fits hold the noise the passes share.
+TEST(JudgedCandidates, SmoothDetailSettingOnCleanPositionsOnly) {
+  DataEstimate e = choice_with(10, false).estimate;
+  e.position_noise = 0;
+  const AutoChoice clean = choose_filter_params(e);
+  ASSERT_TRUE(detail::judge_chooses_scale(clean));
+  const std::vector<FilterParams> judged = detail::judged_candidates(clean);
+  ASSERT_EQ(judged.size(), 2u);
+  EXPECT_EQ(judged[0].sigma_f, clean.params.sigma_f);
+  EXPECT_EQ(judged[1].sigma_f, FilterParams().sigma_f / 2);
+  EXPECT_EQ(judged[1].sigma_g, FilterParams().sigma_g);
+  EXPECT_EQ(judged[1].units, Units::radius);
+  EXPECT_EQ(detail::judged_pass_budget(judged[1], clean), detail::kJudgedPassBudget);
+
+  const AutoChoice noisy = choice_with(10, false);
+  EXPECT_FALSE(detail::judge_chooses_scale(noisy));
+  EXPECT_EQ(detail::judged_candidates(noisy).size(), 1u);
 }
 
 // judged_passes_end, on judged RMS sequences from the real meshes (docs/auto.md, 100k points).

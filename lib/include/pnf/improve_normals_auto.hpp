@@ -33,7 +33,9 @@ struct AutoRun {
 // so on the judged parts of the surface --auto never returns normals further from the positions'
 // surface than its input (docs/auto.md). On noisy positions where no pass beats them, one pass
 // of wide averaging is judged too, against the input's score less the judge's own error in
-// quadrature (docs/auto.md, "The judged fallback on noisy positions"). Writes N unit normals
+// quadrature (docs/auto.md, "The judged fallback on noisy positions"); on clean positions a
+// narrow, gentler setting (sigma_f 2, sigma_g 0.5 mean radii) is judged beside the rule's
+// (docs/auto.md, "The judge's second setting on clean positions"). Writes N unit normals
 // into normals_out (N rows; it may be the cloud's own normals view). A stop_change_deg >= 0
 // replaces the rule's stop rule (0: off). Throws as choose_filter_params and NormalFilter::run do.
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,

@@ -343,6 +343,15 @@ FilterParams detail::fallback_setting(const AutoChoice& choice) {
   return p;
 }
 
+FilterParams detail::smooth_detail_setting(const AutoChoice& choice) {
+  FilterParams p = choice.params;
+  p.sigma_f = FilterParams().sigma_f / 2;
+  p.sigma_g = FilterParams().sigma_g;
+  p.units = Units::radius;
+  p.iterations = 1;
+  return p;
+}
+
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }
 
 bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterParams& params) {

@@ -98,8 +98,11 @@ std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
     const FilterParams other = independent_errors_setting(choice);
     if (other.sigma_f != choice.params.sigma_f || other.sigma_g != choice.params.sigma_g) candidates.push_back(other);
   }
+  if (tries_smooth_detail(choice)) candidates.push_back(smooth_detail_setting(choice));
   return candidates;
 }
+
+bool detail::tries_smooth_detail(const AutoChoice& choice) { return judge_chooses_scale(choice); }
 
 double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
   return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
