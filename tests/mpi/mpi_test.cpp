@@ -393,6 +393,23 @@ TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
   expect_auto_as_one_process(cloud, one, expected);
 }
 
+// The same on clean positions, where the judge tries the smooth-detail setting after the rule's
+// (lib/src/auto/judged_passes.hpp, tries_smooth_detail): its passes are judged against the best
+// of the rule's, and end where one process's end.
+TEST(MpiAuto, JudgesTheSecondSettingAsOneProcess) {
+  ScanNoise noise;
+  noise.position = 0;
+  PointCloud cloud = make_scanned_house(6000, noise).cloud;
+  EstimateParams pca;
+  pca.orientation = Orientation::outward;
+  cloud.normals = estimate_normals(cloud.positions, pca);
+  NormalFilter filter(reference_options());
+  std::vector<Vec3> expected(cloud.size());
+  const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
+  ASSERT_NE(one.choice.judged.find("; sigma_f 2, sigma_g 0.5"), std::string::npos) << one.choice.judged;
+  expect_auto_as_one_process(cloud, one, expected);
+}
+
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
 // process's estimate_data message) rather than a bare "too few points", also when the failing
 // slices are not rank 0's.

@@ -64,8 +64,10 @@ class JudgedPasses {
     judging_.samples = std::size_t(numbers[3]);
     // A pass must beat the input by more than the judge's own error explains (the fallback's bar
     // is the half of it judged_passes.hpp explains).
-    best_rms_ = judging_.fallback ? pnf::detail::fallback_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg)
-                                  : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg);
+    best_rms_ =
+        std::min(judging_.best_before,
+                 judging_.fallback ? pnf::detail::fallback_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg)
+                                   : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg));
     judging_.best_pass = 0;
   }
 

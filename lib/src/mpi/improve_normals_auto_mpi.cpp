@@ -150,6 +150,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = params.iterations;
+    if (c > 0) judging.best_before = best_rms;
     const DistributedSummary summary =
         detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]

@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "auto/stein_risk.hpp"
@@ -33,6 +34,9 @@ struct PassJudging {
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
   std::size_t samples = 0;          // the judge's samples
   bool fallback = false;            // judged against pnf::detail::fallback_to_beat, not rms_to_beat
+  // The lowest judged RMS of the settings judged before (one process's running best): a pass is
+  // kept, and the passes end (judged_passes_end), against the lower of it and the bar.
+  double best_before = std::numeric_limits<double>::infinity();
   // The run from the probed input where Stein's estimate decides (every rank): its passes are
   // only recorded, all of `budget` (or as many as the stop rule lets run: `passes`).
   bool probing = false;
