@@ -377,11 +377,13 @@ TEST(MpiAuto, ChoosesJudgesAndFiltersAsOneProcess) {
   expect_auto_as_one_process(shuffled, one, expected);
 }
 
-// The same where the judged settings keep the input and the fallback's one wide pass is judged
-// (the noisy house with PCA-16 normals: lib/src/auto/judged_passes.hpp, tries_fallback).
-TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
+namespace {
+
+// The house (6000 points, `position_noise` spacings of noise) with PCA-16 normals, run by one
+// process's --auto, whose judged text must hold `judged_part`; then run across the ranks.
+void expect_house_with_pca_normals_as_one_process(double position_noise, const std::string& judged_part) {
   ScanNoise noise;
-  noise.position = 0.5;
+  noise.position = position_noise;
   PointCloud cloud = make_scanned_house(6000, noise).cloud;
   EstimateParams pca;
   pca.orientation = Orientation::outward;
@@ -389,25 +391,23 @@ TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
   NormalFilter filter(reference_options());
   std::vector<Vec3> expected(cloud.size());
   const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
-  ASSERT_NE(one.choice.judged.find(": the fallback, 1 pass kept"), std::string::npos) << one.choice.judged;
+  ASSERT_NE(one.choice.judged.find(judged_part), std::string::npos) << one.choice.judged;
   expect_auto_as_one_process(cloud, one, expected);
+}
+
+}  // namespace
+
+// The same where the judged settings keep the input and the fallback's one wide pass is judged
+// (the noisy house with PCA-16 normals: lib/src/auto/judged_passes.hpp, tries_fallback).
+TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
+  expect_house_with_pca_normals_as_one_process(0.5, ": the fallback, 1 pass kept");
 }
 
 // The same on clean positions, where the judge tries the smooth-detail setting after the rule's
 // (lib/src/auto/judged_passes.hpp, tries_smooth_detail): its passes are judged against the best
 // of the rule's, and end where one process's end.
 TEST(MpiAuto, JudgesTheSecondSettingAsOneProcess) {
-  ScanNoise noise;
-  noise.position = 0;
-  PointCloud cloud = make_scanned_house(6000, noise).cloud;
-  EstimateParams pca;
-  pca.orientation = Orientation::outward;
-  cloud.normals = estimate_normals(cloud.positions, pca);
-  NormalFilter filter(reference_options());
-  std::vector<Vec3> expected(cloud.size());
-  const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
-  ASSERT_NE(one.choice.judged.find("; sigma_f 2, sigma_g 0.5"), std::string::npos) << one.choice.judged;
-  expect_auto_as_one_process(cloud, one, expected);
+  expect_house_with_pca_normals_as_one_process(0, "; sigma_f 2, sigma_g 0.5");
 }
 
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
