@@ -156,9 +156,11 @@ def improve_normals(
         `radii` when given, else estimated from the points (the median distance to the 4
         nearest).
     auto: choose sigma_f, sigma_g and the passes from the data, as ``pnf filter --auto``: the
-        rule's setting (see choose_params), its passes each judged against the surface fitted to
-        the positions, the best kept (the input normals when no pass beats them); then sigma_f,
-        sigma_g, iterations, units and mean_radius must be left at their defaults.
+        rule's setting (see choose_params) and, where the data call for them, a few others
+        (docs/auto.md), their passes each judged against the surface fitted to the positions
+        (or by Stein's risk estimate), the best kept (the input normals when no pass beats
+        them); then sigma_f, sigma_g, iterations, units and mean_radius must be left at their
+        defaults.
     device: where to run, as pnf::Device::parse reads it: an OpenCL selector ("cpu", "gpu",
         "accelerator", "P:D" as devices() shows, or part of a name such as "pocl"), the same
         prefixed ("opencl:gpu"), or "reference"; None: the PNF_DEVICE variable, else the first
