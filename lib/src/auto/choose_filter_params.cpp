@@ -325,31 +325,32 @@ FilterParams detail::independent_errors_setting(const AutoChoice& choice) {
   return p;
 }
 
-FilterParams detail::plain_averaging_setting(const AutoChoice& choice) {
+namespace {
+
+// A fixed setting in mean radii that the judge or Stein's estimate tries beside the rule's: the
+// choice's own stop rule and radius, these sigmas and passes.
+FilterParams setting_in_mean_radii(const AutoChoice& choice, double sigma_f, double sigma_g, int iterations) {
   FilterParams p = choice.params;
-  p.sigma_f = FilterParams().sigma_f;
-  p.sigma_g = kSigmaGOff;
+  p.sigma_f = sigma_f;
+  p.sigma_g = sigma_g;
   p.units = Units::radius;
-  p.iterations = choice.estimate.normal_noise_deg < kIndependentOnePassDeg ? 1 : 2;
+  p.iterations = iterations;
   return p;
+}
+
+}  // namespace
+
+FilterParams detail::plain_averaging_setting(const AutoChoice& choice) {
+  return setting_in_mean_radii(choice, FilterParams().sigma_f, kSigmaGOff,
+                               choice.estimate.normal_noise_deg < kIndependentOnePassDeg ? 1 : 2);
 }
 
 FilterParams detail::fallback_setting(const AutoChoice& choice) {
-  FilterParams p = choice.params;
-  p.sigma_f = FilterParams().sigma_f;
-  p.sigma_g = p.sigma_f / 2;
-  p.units = Units::radius;
-  p.iterations = 1;
-  return p;
+  return setting_in_mean_radii(choice, FilterParams().sigma_f, FilterParams().sigma_f / 2, 1);
 }
 
 FilterParams detail::smooth_detail_setting(const AutoChoice& choice) {
-  FilterParams p = choice.params;
-  p.sigma_f = FilterParams().sigma_f / 2;
-  p.sigma_g = FilterParams().sigma_g;
-  p.units = Units::radius;
-  p.iterations = 1;
-  return p;
+  return setting_in_mean_radii(choice, FilterParams().sigma_f / 2, FilterParams().sigma_g, 1);
 }
 
 AutoChoice choose_filter_params(const CloudView& cloud) { return choose_filter_params(estimate_data(cloud)); }

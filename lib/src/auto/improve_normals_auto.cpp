@@ -98,7 +98,11 @@ std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
     const FilterParams other = independent_errors_setting(choice);
     if (other.sigma_f != choice.params.sigma_f || other.sigma_g != choice.params.sigma_g) candidates.push_back(other);
   }
-  if (tries_smooth_detail(choice)) candidates.push_back(smooth_detail_setting(choice));
+  const FilterParams smooth = smooth_detail_setting(choice);
+  if (tries_smooth_detail(choice) && std::none_of(candidates.begin(), candidates.end(),
+                                                  [&](const FilterParams& p) { return is_setting(p, smooth); })) {
+    candidates.push_back(smooth);
+  }
   return candidates;
 }
 
