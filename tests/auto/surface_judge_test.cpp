@@ -10,6 +10,7 @@
 #include "auto/sample_neighbourhoods.hpp"
 #include "auto/surface_judge.hpp"
 #include "crease_clouds.hpp"
+#include "pnf/estimate_normals.hpp"
 #include "pnf/improve_normals_auto.hpp"
 #include "spatial/spatial_index.hpp"
 #include "spatial/spatial_order.hpp"
@@ -116,10 +117,8 @@ TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
   EXPECT_GT(pca_score, 0.5 * rms_line_angle(pca, c.truth));
 }
 
-// Ripples z = a sin(k x) sin(k y) of wavelength 0.4, the whole neighbourhood (radius about 0.09)
-// spanning nearly half of one: a quadric over all of it cannot follow them, one over its nearest
-// quarter can. The judge scores with the quarter there, and its score of the true normals falls.
-TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
+// Ripples of wavelength 0.4 on a jittered grid of spacing 0.01, with their true normals.
+PointCloud rippled_grid() {
   PointCloud ripples = jittered_grid(100, 0.01, 0.3, 7);
   const double a = 0.01, k = 2 * kPi / 0.4;
   for (std::size_t i = 0; i < ripples.size(); ++i) {
@@ -128,6 +127,14 @@ TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
     ripples.normals[i] = normalized(
         {-a * k * std::cos(k * p[0]) * std::sin(k * p[1]), -a * k * std::sin(k * p[0]) * std::cos(k * p[1]), 1});
   }
+  return ripples;
+}
+
+// Ripples z = a sin(k x) sin(k y) of wavelength 0.4, the whole neighbourhood (radius about 0.09)
+// spanning nearly half of one: a quadric over all of it cannot follow them, one over its nearest
+// quarter can. The judge scores with the quarter there, and its score of the true normals falls.
+TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
+  const PointCloud ripples = rippled_grid();
   detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
   const std::vector<double> truth = xyz_rows(ripples.normals);
   const double whole = judge.rms_deg(truth.data());
@@ -173,6 +180,50 @@ TEST(SurfaceJudge, KeepsTheInputsSumsAtTheScaleChosen) {
     EXPECT_EQ(judge.input_sums(input.data()).squared, judge.sums(input.data()).squared);
     EXPECT_NE(judge.input_sums(input.data()).squared, kept.squared);
   }
+}
+
+// PCA normals over k points (`pnf estimate`'s, an independent implementation) follow the plane of
+// exactly their own k nearest; the ripples make every other count's plane differ. The widest plane
+// tried (256 of 257) tells nothing: exact normals on a noisy plane are nearest it too.
+TEST(SurfaceJudge, FindsTheSupportOfPcaNormals) {
+  const PointCloud ripples = rippled_grid();
+  const detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
+  for (int k : {16, 32, 64, 128, 256}) {
+    EstimateParams params;
+    params.k = k;
+    EXPECT_EQ(judge.input_support(xyz_rows(estimate_normals(ripples.positions, params)).data()), k < 256 ? k : 0) << k;
+  }
+  PointCloud plane = jittered_grid(100, 0.01, 0.3, 8);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> noise(0, 0.003);
+  for (Vec3& p : plane.positions) p[2] = noise(rng);
+  EXPECT_EQ(judge_of(plane.positions, 257, 0.01).input_support(xyz_rows(plane.normals).data()), 0);
+}
+
+// Where the input normals are PCA normals over 64 points, the judge fits 32 (half of them):
+// fitting their own points it shares their smoothing of the ripples and reads them low; under
+// them it reads them nearer their true error. PCA-16 normals leave the choice as it was.
+TEST(SurfaceJudge, FitsUnderTheSupportOfWidePcaNormals) {
+  const PointCloud ripples = rippled_grid();
+  EstimateParams params;
+  params.k = 64;
+  const std::vector<Vec3> pca64 = estimate_normals(ripples.positions, params);
+  const std::vector<double> input = xyz_rows(pca64);
+  detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
+  judge.score_with(64);
+  const double at_their_own = judge.rms_deg(input.data());
+  judge.choose_scale(input.data());
+  EXPECT_EQ(judge.under_support(), 64);
+  EXPECT_EQ(judge.scored(), 32);
+  const double truth = rms_line_angle(pca64, ripples.normals);
+  EXPECT_LT(std::abs(judge.input_rms_deg(input.data()) - truth), std::abs(at_their_own - truth));
+
+  params.k = 16;
+  const std::vector<double> pca16 = xyz_rows(estimate_normals(ripples.positions, params));
+  detail::SurfaceJudge other = judge_of(ripples.positions, 257, 0.15 * 0.01);
+  other.choose_scale(pca16.data());
+  EXPECT_EQ(other.under_support(), 0);
+  EXPECT_EQ(other.scored(), 64);  // the ripples' detail: the quarter, as for the true normals
 }
 
 // The quarter may score only where the positions are as clean as the fits' floor (twice the noise

@@ -381,11 +381,12 @@ namespace {
 
 // The house (6000 points, `position_noise` spacings of noise) with PCA-16 normals, run by one
 // process's --auto, whose judged text must hold `judged_part`; then run across the ranks.
-void expect_house_with_pca_normals_as_one_process(double position_noise, const std::string& judged_part) {
+void expect_house_with_pca_normals_as_one_process(double position_noise, int k, const std::string& judged_part) {
   ScanNoise noise;
   noise.position = position_noise;
   PointCloud cloud = make_scanned_house(6000, noise).cloud;
   EstimateParams pca;
+  pca.k = k;
   pca.orientation = Orientation::outward;
   cloud.normals = estimate_normals(cloud.positions, pca);
   NormalFilter filter(reference_options());
@@ -400,14 +401,20 @@ void expect_house_with_pca_normals_as_one_process(double position_noise, const s
 // The same where the judged settings keep the input and the fallback's one wide pass is judged
 // (the noisy house with PCA-16 normals: lib/src/auto/judged_passes.hpp, tries_fallback).
 TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
-  expect_house_with_pca_normals_as_one_process(0.5, ": the fallback, 1 pass kept");
+  expect_house_with_pca_normals_as_one_process(0.5, 16, ": the fallback, 1 pass kept");
 }
 
 // The same on clean positions, where the judge tries the smooth-detail setting after the rule's
 // (lib/src/auto/judged_passes.hpp, tries_smooth_detail): its passes are judged against the best
 // of the rule's, and end where one process's end.
 TEST(MpiAuto, JudgesTheSecondSettingAsOneProcess) {
-  expect_house_with_pca_normals_as_one_process(0, "; sigma_f 2, sigma_g 0.5");
+  expect_house_with_pca_normals_as_one_process(0, 16, "; sigma_f 2, sigma_g 0.5");
+}
+
+// The same where the input normals are PCA normals over 64 points and rank 0's judge fits half of
+// them (SurfaceJudge::choose_scale, under_support): every rank is told the fits it scored with.
+TEST(MpiAuto, JudgesUnderTheInputsSupportAsOneProcess) {
+  expect_house_with_pca_normals_as_one_process(0, 64, "fits of 32 points, under the 64 whose plane the input follows");
 }
 
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one

@@ -138,9 +138,12 @@ int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& cho
   return std::max(params.iterations, kJudgedPassBudget);
 }
 
-std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points) {
+std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points,
+                                   int under_support) {
+  const std::string support =
+      under_support > 0 ? ", under the " + std::to_string(under_support) + " whose plane the input follows" : "";
   return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
-         std::to_string(fit_points) + " points, its own error " + number(own_error_deg) +
+         std::to_string(fit_points) + " points" + support + ", its own error " + number(own_error_deg) +
          " deg), RMS deg from the input (" + number(input_rms_deg) +
          ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
 }
@@ -242,7 +245,8 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::size_t best_candidate = 0;
-  std::string judged = detail::judged_heading(input_rms, own_error, judge.size(), judge.scored());
+  std::string judged =
+      detail::judged_heading(input_rms, own_error, judge.size(), judge.scored(), judge.under_support());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.

@@ -145,8 +145,9 @@ bool stein_decides(const AutoChoice& choice);
 bool judge_chooses_scale(const AutoChoice& choice);
 
 // AutoChoice::judged, in three parts: the judge and the input's RMS; each setting's RMS by pass;
-// the outcome.
-std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points);
+// the outcome. `under_support`: SurfaceJudge::under_support (0: not said).
+std::string judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points,
+                           int under_support);
 std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
 std::string judged_outcome(std::size_t best_candidate, int passes_kept);
 // ... the fallback's RMS of its pass and the bar it had to beat.

@@ -19,6 +19,12 @@ namespace {
 constexpr int kReweightSteps = 5;
 // A quadric has 6 coefficients; twice as many points at least.
 constexpr int kMinNeighbours = 12;
+// The fewest points choose_scale fits to stay under the input's support: at 16 the reweighted
+// quadric's slope variance read the judge's own error at 2-76 degrees on the clean real meshes
+// (docs/auto.md, "Fits finer than the input's support").
+constexpr int kFinestFit = 32;
+// The supports input_support tries: 16 points, then doubling up to the whole neighbourhood.
+constexpr int kSmallestSupport = 16;
 
 // The angle (radians) between `n` and the normal of the quadric fitted in n's frame to the
 // sample's neighbours (`offsets`, `count` rows), each weighted by a Gaussian of width `width` on
@@ -218,10 +224,60 @@ bool SurfaceJudge::quarter_is_better(const Sums& whole, const Sums& quarter) {
   return quarter.own_error_squared() < whole.own_error_squared();
 }
 
+int SurfaceJudge::input_support(const double* normals_xyz) const {
+  std::vector<int> supports;
+  for (int k = kSmallestSupport; k <= neighbours_; k *= 2) supports.push_back(k);
+  if (empty() || supports.empty()) return 0;
+  const std::size_t samples = ids_.size(), count = supports.size(), k = std::size_t(neighbours_);
+  // Per sample, then summed in sample order: the same bits on any thread count (as in sums).
+  std::vector<double> squared(samples * count, 0.0);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long long s = 0; s < static_cast<long long>(samples); ++s) {
+    const std::size_t i = ids_[std::size_t(s)];
+    const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
+    const double* offsets = &offsets_[std::size_t(s) * k * 3];
+    // The nearest points' sums grow one point at a time; each support's plane is read off them.
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    for (std::size_t next = 0, j = 0; next < count; ++j) {
+      const Eigen::Vector3d x(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
+      sum += x;
+      outer += x * x.transpose();
+      if (int(j) + 1 < supports[next]) continue;
+      const Eigen::Vector3d mean = sum / double(j + 1);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(outer / double(j + 1) - mean * mean.transpose());
+      const Eigen::Vector3d plane = eigen.eigenvectors().col(0);
+      const double angle = std::atan2(n.cross(plane).norm(), std::abs(n.dot(plane)));  // as lines
+      squared[std::size_t(s) * count + next++] = angle * angle;
+    }
+  }
+  std::vector<double> total(count, 0.0);
+  for (std::size_t s = 0; s < samples; ++s) {
+    for (std::size_t c = 0; c < count; ++c) total[c] += squared[s * count + c];
+  }
+  const std::size_t closest = std::size_t(std::min_element(total.begin(), total.end()) - total.begin());
+  // The widest plane tried is also the nearest to normals truer than any (exact ones on a noisy
+  // plane): no support can be told there.
+  return closest + 1 < count ? supports[closest] : 0;
+}
+
 void SurfaceJudge::choose_scale(const double* normals_xyz) {
   if (empty()) return;
-  const std::vector<int> candidates = scales_of(neighbours_);
-  if (candidates.size() < 2) return;
+  std::vector<int> candidates = scales_of(neighbours_);
+  // Fits that hold no more than half of the points each input normal follows, so that they do
+  // not share its smoothing; where the judge cannot fit so few, as before.
+  const int support = input_support(normals_xyz);
+  if (support / 2 >= kFinestFit) {
+    under_support_ = support;
+    candidates.erase(std::remove_if(candidates.begin(), candidates.end(), [&](int c) { return c > support / 2; }),
+                     candidates.end());
+    if (candidates.empty()) candidates.push_back(support / 2);
+  }
+  if (candidates.size() < 2) {
+    score_with(candidates[0]);
+    input_sums_ = sums(normals_xyz);
+    return;
+  }
   score_with(candidates[0]);
   const Sums whole = sums(normals_xyz);
   score_with(candidates[1]);

@@ -4,10 +4,11 @@
 // Gaussian weight on the residual: the fit locks onto the sheet of points that passes nearest
 // that normal's tangent plane (one face at a sharp edge, the whole neighbourhood on a smooth
 // surface) and its slope at the sample is the normal's error there, at the scale (the whole
-// neighbourhood or its nearest quarter) where the judge's own error is the smaller. The input
-// normals play no part in the fit, so a normal that follows the positions' surface scores low, a
-// blurred one at an edge or a tilted one on a smooth face scores high. --auto runs its setting
-// pass by pass and keeps the pass (0: the input) that scores lowest (docs/auto.md).
+// neighbourhood or its nearest quarter; fewer points than the input normals follow) where the
+// judge's own error is the smaller. The input normals play no part in the fit, so a normal that
+// follows the positions' surface scores low, a blurred one at an edge or a tilted one on a smooth
+// face scores high. --auto runs its setting pass by pass and keeps the pass (0: the input) that
+// scores lowest (docs/auto.md).
 #pragma once
 
 #include <cstddef>
@@ -42,8 +43,18 @@ class SurfaceJudge {
   // Scores at the scale, of the two (all the neighbours, or their nearest quarter), whose own
   // error (own_error_deg) is the smaller in the frames of `normals_xyz`, the input normals: the
   // larger one averages noise better, the smaller one follows detail finer than the larger one's
-  // neighbourhood. Keeps the input's sums at the scale chosen (input_sums).
+  // neighbourhood. Where the input normals follow the plane of 64 or more points (input_support),
+  // only scales of at most half that many are weighed, or that half alone: fits over the input's
+  // own points share its smoothing and read it low (docs/auto.md). Keeps the input's sums at the
+  // scale chosen (input_sums).
   void choose_scale(const double* normals_xyz);
+  // The count of nearest points (16, 32, ... up to the neighbourhood) whose plane (their
+  // covariance's least axis) the normals `normals_xyz` follow most closely, RMS over the samples:
+  // the input's support, 64 for PCA normals over 64 points. 0 where that is the widest plane
+  // tried, which is also the nearest to normals truer than any plane.
+  int input_support(const double* normals_xyz) const;
+  // The input's support that choose_scale kept its fits under; 0 where it did not.
+  int under_support() const { return under_support_; }
   // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
   static std::vector<int> scales_of(int neighbours);
   void score_with(int points) {
@@ -86,6 +97,7 @@ class SurfaceJudge {
   int neighbours_ = 0, scored_ = 0;
   double width_ = 0;
   Sums input_sums_;  // choose_scale's, at the scale it chose; no samples where it did not run
+  int under_support_ = 0;
 };
 
 // The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside

@@ -47,7 +47,7 @@ class JudgedPasses {
       best_rms_ = judging_.to_beat;
       return;
     }
-    double numbers[4] = {0, 0, 0, 0};
+    double numbers[5] = {0, 0, 0, 0, 0};
     if (judging_.root) {
       const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
       const double* input = judging_.root->input_normals.data();
@@ -56,12 +56,14 @@ class JudgedPasses {
       numbers[1] = sums.own_error_deg();
       numbers[2] = double(judge.scored());
       numbers[3] = double(judge.size());
+      numbers[4] = double(judge.under_support());
     }
-    detail::check_mpi(MPI_Bcast(numbers, 4, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    detail::check_mpi(MPI_Bcast(numbers, 5, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
     judging_.rms_by_pass.assign(1, numbers[0]);
     judging_.own_error_deg = numbers[1];
     judging_.fit_points = int(numbers[2]);
     judging_.samples = std::size_t(numbers[3]);
+    judging_.under_support = int(numbers[4]);
     // A pass must beat the input by more than the judge's own error explains (the fallback's bar
     // is the half of it judged_passes.hpp explains).
     best_rms_ =

@@ -157,7 +157,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
     if (c == 0) {
       judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.samples,
-                                           judging.fit_points);
+                                           judging.fit_points, judging.under_support);
     }
     judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
     if (c == 0 || rms < best_rms) {

@@ -32,6 +32,7 @@ struct PassJudging {
   int best_pass = 0;                // 0: the input
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
+  int under_support = 0;            // SurfaceJudge::under_support
   std::size_t samples = 0;          // the judge's samples
   bool fallback = false;            // judged against pnf::detail::fallback_to_beat, not rms_to_beat
   // The lowest judged RMS of the settings judged before (one process's running best): a pass is
