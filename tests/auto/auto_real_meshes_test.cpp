@@ -48,6 +48,16 @@ AutoOutcome auto_outcome(const PointCloud& cloud, const std::vector<Vec3>& truth
   return o;
 }
 
+// --auto on `name`'s clean samples with PCA normals over 64 points; none where the data is absent.
+std::optional<AutoOutcome> auto_on_clean_pca64(const std::string& name, std::uint64_t seed) {
+  const std::optional<eval::MeshSamples> samples = sampled_mesh(name, seed);
+  if (!samples) return std::nullopt;
+  PointCloud cloud;
+  cloud.positions = samples->shape.positions;
+  cloud.normals = eval::pca_normals(cloud.positions, samples->shape.normals, 64);
+  return auto_outcome(cloud, samples->shape.normals);
+}
+
 // The crank (a CAD part with thin webs and small holes), 100k samples, position noise 0.25% of
 // the diagonal per axis (about half a spacing), the true normals tilted by 10 degrees RMS: the
 // judge's fits of 257 points smoothed its detail as the filter did and agreed with every pass,
@@ -73,13 +83,9 @@ TEST(AutoOnRealMeshes, NoisyCrankWithTiltedNormalsIsNoWorse) {
 // than the input, which was kept (pnf_eval_real: 6.97 deg); the judge's second setting for clean
 // positions (smooth_detail_setting) gains and is kept, truly better than the input.
 TEST(AutoOnRealMeshes, CleanCamelWithWidePcaNormalsGainsFromTheSmoothDetailSetting) {
-  const std::optional<eval::MeshSamples> samples = sampled_mesh("camel", 31);
-  if (!samples) GTEST_SKIP() << absent("camel");
-  const eval::MeshSamples& s = *samples;
-  PointCloud cloud;
-  cloud.positions = s.shape.positions;
-  cloud.normals = eval::pca_normals(cloud.positions, s.shape.normals, 64);
-  const AutoOutcome o = auto_outcome(cloud, s.shape.normals);
+  const std::optional<AutoOutcome> outcome = auto_on_clean_pca64("camel", 31);
+  if (!outcome) GTEST_SKIP() << absent("camel");
+  const AutoOutcome& o = *outcome;
   SCOPED_TRACE(o.run.choice.rule + "; " + o.run.choice.judged);
   const FilterParams smooth = detail::smooth_detail_setting(o.run.choice);
   EXPECT_EQ(o.run.choice.params.sigma_f, smooth.sigma_f);
@@ -95,13 +101,9 @@ TEST(AutoOnRealMeshes, CleanCamelWithWidePcaNormalsGainsFromTheSmoothDetailSetti
 // the input was kept (pnf_eval_real's seeds). Fitting half the 64 that the input follows, it reads
 // the input at 1.21 deg, its own error at 0.22, and keeps a pass that truly gains (0.96 deg).
 TEST(AutoOnRealMeshes, CleanTeddyWithWidePcaNormalsIsJudgedUnderTheirSupport) {
-  const std::optional<eval::MeshSamples> samples = sampled_mesh("teddy", 41);
-  if (!samples) GTEST_SKIP() << absent("teddy");
-  const eval::MeshSamples& s = *samples;
-  PointCloud cloud;
-  cloud.positions = s.shape.positions;
-  cloud.normals = eval::pca_normals(cloud.positions, s.shape.normals, 64);
-  const AutoOutcome o = auto_outcome(cloud, s.shape.normals);
+  const std::optional<AutoOutcome> outcome = auto_on_clean_pca64("teddy", 41);
+  if (!outcome) GTEST_SKIP() << absent("teddy");
+  const AutoOutcome& o = *outcome;
   SCOPED_TRACE(o.run.choice.rule + "; " + o.run.choice.judged);
   EXPECT_NE(o.run.choice.judged.find("fits of 32 points, under the 64 whose plane the input follows"),
             std::string::npos);
