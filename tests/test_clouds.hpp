@@ -66,6 +66,19 @@ inline PointCloud jittered_grid(int cells, double h, double jitter, unsigned see
   return c;
 }
 
+// Ripples of wavelength 0.4 on a jittered grid of spacing 0.01, with their true normals.
+inline PointCloud rippled_grid() {
+  PointCloud ripples = jittered_grid(100, 0.01, 0.3, 7);
+  const double a = 0.01, k = 2 * kPi / 0.4;
+  for (std::size_t i = 0; i < ripples.size(); ++i) {
+    Vec3& p = ripples.positions[i];
+    p[2] = a * std::sin(k * p[0]) * std::sin(k * p[1]);
+    ripples.normals[i] = normalized(
+        {-a * k * std::cos(k * p[0]) * std::sin(k * p[1]), -a * k * std::sin(k * p[0]) * std::cos(k * p[1]), 1});
+  }
+  return ripples;
+}
+
 // A 90-degree ridge along the y axis, z = -|x|: the faces z = x (x < 0) and z = -x (x >= 0) with
 // upward normals (-1, 0, 1)/sqrt2 and (1, 0, 1)/sqrt2. Points on a grid of spacing h in (u, y),
 // u the arc length across the edge, jittered within the surface by up to `jitter` * h.

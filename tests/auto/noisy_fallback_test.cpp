@@ -1,6 +1,7 @@
 // --auto's fallback on noisy positions (lib/src/auto/judged_passes.hpp, tries_fallback): where
 // the judged settings keep the input and the positions are not clean, one wide pass at the
-// paper's sigma_f is judged against the input's score less the judge's own error in quadrature.
+// paper's sigma_f is judged against the input's score less the judge's own error in quadrature;
+// and its counterpart on clean positions, the narrow pass for plane-fit normals.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -90,6 +91,27 @@ TEST(NoisyFallback, OnlyOnNoisyPositionsAndBelowTheInputLessTheJudgesError) {
   EXPECT_DOUBLE_EQ(detail::fallback_to_beat(5, 3), 4);
   EXPECT_EQ(detail::fallback_to_beat(3, 5), 0);
   EXPECT_LT(detail::rms_to_beat(5, 3), detail::fallback_to_beat(5, 3));
+}
+
+// The narrow pass is the clean positions' fallback, and only for plane-fit input normals; its bar
+// is the input's score plus the judge's own error. The noisy fallback needs no plane fits.
+TEST(NoisyFallback, NarrowPassOnlyOnCleanPositionsForPlaneFits) {
+  AutoChoice choice;
+  choice.estimate.area_spacing = 1;
+  choice.estimate.position_noise = 0.05;
+  EXPECT_FALSE(detail::tries_narrow_pass(choice, 0));
+  ASSERT_TRUE(detail::tries_narrow_pass(choice, 16));
+  const detail::Fallback narrow = detail::fallback_of(choice, 16, 5, 3);
+  EXPECT_EQ(narrow.candidate, detail::kNarrowPassCandidate);
+  EXPECT_DOUBLE_EQ(narrow.to_beat, 8);
+  EXPECT_EQ(narrow.params.sigma_f, detail::smooth_detail_setting(choice).sigma_f);
+  EXPECT_EQ(narrow.params.iterations, 1);
+  EXPECT_EQ(detail::fallback_of(choice, 0, 5, 3).candidate, 0u);
+  choice.estimate.position_noise = 0.1;
+  EXPECT_FALSE(detail::tries_narrow_pass(choice, 16));
+  const detail::Fallback wide = detail::fallback_of(choice, 16, 5, 3);
+  EXPECT_EQ(wide.candidate, detail::kFallbackCandidate);
+  EXPECT_DOUBLE_EQ(wide.to_beat, 4);
 }
 
 }  // namespace

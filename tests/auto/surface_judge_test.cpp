@@ -117,19 +117,6 @@ TEST(SurfaceJudge, PrefersEachFacesOwnNormalAtASharpCrease) {
   EXPECT_GT(pca_score, 0.5 * rms_line_angle(pca, c.truth));
 }
 
-// Ripples of wavelength 0.4 on a jittered grid of spacing 0.01, with their true normals.
-PointCloud rippled_grid() {
-  PointCloud ripples = jittered_grid(100, 0.01, 0.3, 7);
-  const double a = 0.01, k = 2 * kPi / 0.4;
-  for (std::size_t i = 0; i < ripples.size(); ++i) {
-    Vec3& p = ripples.positions[i];
-    p[2] = a * std::sin(k * p[0]) * std::sin(k * p[1]);
-    ripples.normals[i] = normalized(
-        {-a * k * std::cos(k * p[0]) * std::sin(k * p[1]), -a * k * std::sin(k * p[0]) * std::cos(k * p[1]), 1});
-  }
-  return ripples;
-}
-
 // Ripples z = a sin(k x) sin(k y) of wavelength 0.4, the whole neighbourhood (radius about 0.09)
 // spanning nearly half of one: a quadric over all of it cannot follow them, one over its nearest
 // quarter can. The judge scores with the quarter there, and its score of the true normals falls.
@@ -143,13 +130,20 @@ TEST(SurfaceJudge, ScoresDetailFinerThanItsNeighbourhoodWithTheNearestQuarter) {
   EXPECT_LT(judge.rms_deg(truth.data()), 0.5 * whole);
 }
 
-// On a plane with noise of 0.3 spacings normal to it, the whole neighbourhood averages the noise
-// better: the judge keeps it.
-TEST(SurfaceJudge, ScoresNoisyPositionsWithTheWholeNeighbourhood) {
+// A jittered grid of spacing 0.01 on the plane z = 0, its points moved off it by Gaussian noise of
+// 0.3 spacings (its normals stay the plane's).
+PointCloud noisy_plane() {
   PointCloud plane = jittered_grid(100, 0.01, 0.3, 8);
   std::mt19937 rng(9);
   std::normal_distribution<double> noise(0, 0.003);
   for (Vec3& p : plane.positions) p[2] = noise(rng);
+  return plane;
+}
+
+// On a plane with noise of 0.3 spacings normal to it, the whole neighbourhood averages the noise
+// better: the judge keeps it.
+TEST(SurfaceJudge, ScoresNoisyPositionsWithTheWholeNeighbourhood) {
+  const PointCloud plane = noisy_plane();
   detail::SurfaceJudge judge = judge_of(plane.positions, 257, std::hypot(0.15 * 0.01, 2 * 0.003));
   const std::vector<double> truth = xyz_rows(plane.normals);
   judge.choose_scale(truth.data());
@@ -193,11 +187,28 @@ TEST(SurfaceJudge, FindsTheSupportOfPcaNormals) {
     params.k = k;
     EXPECT_EQ(judge.input_support(xyz_rows(estimate_normals(ripples.positions, params)).data()), k < 256 ? k : 0) << k;
   }
-  PointCloud plane = jittered_grid(100, 0.01, 0.3, 8);
-  std::mt19937 rng(9);
-  std::normal_distribution<double> noise(0, 0.003);
-  for (Vec3& p : plane.positions) p[2] = noise(rng);
+  const PointCloud plane = noisy_plane();
   EXPECT_EQ(judge_of(plane.positions, 257, 0.01).input_support(xyz_rows(plane.normals).data()), 0);
+}
+
+// PCA normals over k points are the planes of their nearest k points, for any k (`pnf estimate`'s,
+// an independent implementation), also rounded to floats as a file stores them; the true normals,
+// and PCA normals tilted by a hundredth of a degree (ten times the tolerance), are no count's.
+TEST(SurfaceJudge, RecognisesPlaneFitNormalsOfAnyCount) {
+  const PointCloud ripples = rippled_grid();
+  const detail::SurfaceJudge judge = judge_of(ripples.positions, 257, 0.15 * 0.01);
+  EstimateParams params;
+  for (int k : {10, 16, 24, 64}) {
+    params.k = k;
+    std::vector<double> pca = xyz_rows(estimate_normals(ripples.positions, params));
+    EXPECT_EQ(judge.plane_fit_count(pca.data()), k) << k;
+    for (double& v : pca) v = double(float(v));
+    EXPECT_EQ(judge.plane_fit_count(pca.data()), k) << k << ", as floats";
+  }
+  EXPECT_EQ(judge.plane_fit_count(xyz_rows(ripples.normals).data()), 0);
+  params.k = 16;
+  const std::vector<Vec3> pca16 = estimate_normals(ripples.positions, params);
+  EXPECT_EQ(judge.plane_fit_count(xyz_rows(tilted(pca16, 0.01, 5)).data()), 0);
 }
 
 // Where the input normals are PCA normals over 64 points, the judge fits 32 (half of them):

@@ -379,12 +379,9 @@ TEST(MpiAuto, ChoosesJudgesAndFiltersAsOneProcess) {
 
 namespace {
 
-// The house (6000 points, `position_noise` spacings of noise) with PCA-16 normals, run by one
-// process's --auto, whose judged text must hold `judged_part`; then run across the ranks.
-void expect_house_with_pca_normals_as_one_process(double position_noise, int k, const std::string& judged_part) {
-  ScanNoise noise;
-  noise.position = position_noise;
-  PointCloud cloud = make_scanned_house(6000, noise).cloud;
+// `cloud` with PCA normals over `k` points, run by one process's --auto, whose judged text must
+// hold `judged_part`; then run across the ranks.
+void expect_pca_normals_as_one_process(PointCloud cloud, int k, const std::string& judged_part) {
   EstimateParams pca;
   pca.k = k;
   pca.orientation = Orientation::outward;
@@ -394,6 +391,13 @@ void expect_house_with_pca_normals_as_one_process(double position_noise, int k, 
   const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
   ASSERT_NE(one.choice.judged.find(judged_part), std::string::npos) << one.choice.judged;
   expect_auto_as_one_process(cloud, one, expected);
+}
+
+// The house (6000 points, `position_noise` spacings of noise) with PCA normals over `k` points.
+void expect_house_with_pca_normals_as_one_process(double position_noise, int k, const std::string& judged_part) {
+  ScanNoise noise;
+  noise.position = position_noise;
+  expect_pca_normals_as_one_process(make_scanned_house(6000, noise).cloud, k, judged_part);
 }
 
 }  // namespace
@@ -415,6 +419,14 @@ TEST(MpiAuto, JudgesTheSecondSettingAsOneProcess) {
 // them (SurfaceJudge::choose_scale, under_support): every rank is told the fits it scored with.
 TEST(MpiAuto, JudgesUnderTheInputsSupportAsOneProcess) {
   expect_house_with_pca_normals_as_one_process(0, 64, "fits of 32 points, under the 64 whose plane the input follows");
+}
+
+// The same where the judged settings keep the input and the input normals are PCA normals, plane
+// fits of their nearest points (the ripples with PCA-16 normals): the narrow pass runs
+// (judged_passes.hpp, tries_narrow_pass), told to every rank by rank 0's judge.
+TEST(MpiAuto, JudgesTheNarrowPassAsOneProcess) {
+  expect_pca_normals_as_one_process(test::rippled_grid(), 16,
+                                    "; the input normals are plane fits of 16 points: narrow pass");
 }
 
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one

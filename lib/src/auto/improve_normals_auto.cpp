@@ -159,9 +159,10 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
 
 std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
   if (passes_kept == 0) return ": the input normals kept";
-  const char* names[] = {"the rule's setting", "the other setting", "the third setting", "the fallback"};
-  return std::string(": ") + names[std::min(best_candidate, kFallbackCandidate)] + ", " + std::to_string(passes_kept) +
-         (passes_kept == 1 ? " pass kept" : " passes kept");
+  const char* names[] = {"the rule's setting", "the other setting", "the third setting", "the fallback",
+                         "the narrow pass"};
+  return std::string(": ") + names[std::min(best_candidate, kNarrowPassCandidate)] + ", " +
+         std::to_string(passes_kept) + (passes_kept == 1 ? " pass kept" : " passes kept");
 }
 
 bool detail::tries_fallback(const AutoChoice& choice) { return !judge_geometry(choice.estimate).quarter_allowed; }
@@ -170,10 +171,36 @@ double detail::fallback_to_beat(double input_rms_deg, double own_error_deg) {
   return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0));
 }
 
-std::string detail::judged_fallback(const FilterParams& params, const std::vector<double>& rms_by_pass,
-                                    double to_beat) {
-  std::string text = "; fallback sigma_f " + number(params.sigma_f) + ", sigma_g " + number(params.sigma_g) +
-                     " (to beat: " + number(to_beat) + ")";
+bool detail::tries_narrow_pass(const AutoChoice& choice, int plane_fits) {
+  return judge_chooses_scale(choice) && plane_fits > 0;
+}
+
+double detail::narrow_pass_to_beat(double input_rms_deg, double own_error_deg) { return input_rms_deg + own_error_deg; }
+
+detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_deg,
+                                     double own_error_deg) {
+  Fallback fallback;
+  if (tries_fallback(choice)) {
+    fallback.params = fallback_setting(choice);
+    fallback.to_beat = fallback_to_beat(input_rms_deg, own_error_deg);
+    fallback.candidate = kFallbackCandidate;
+  } else if (tries_narrow_pass(choice, plane_fits)) {
+    fallback.params = smooth_detail_setting(choice);
+    fallback.to_beat = narrow_pass_to_beat(input_rms_deg, own_error_deg);
+    fallback.candidate = kNarrowPassCandidate;
+    fallback.plane_fits = plane_fits;
+  }
+  return fallback;
+}
+
+std::string detail::judged_fallback(const Fallback& fallback, const std::vector<double>& rms_by_pass) {
+  const FilterParams& params = fallback.params;
+  std::string text = fallback.candidate == kNarrowPassCandidate
+                         ? "; the input normals are plane fits of " + std::to_string(fallback.plane_fits) +
+                               " points: narrow pass sigma_f " + number(params.sigma_f) + ", sigma_g " +
+                               number(params.sigma_g)
+                         : "; fallback sigma_f " + number(params.sigma_f) + ", sigma_g " + number(params.sigma_g);
+  text += " (to beat: " + number(fallback.to_beat) + ")";
   for (std::size_t pass = 1; pass < rms_by_pass.size(); ++pass) text += " " + number(rms_by_pass[pass]);
   return text;
 }
@@ -242,57 +269,47 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const detail::SurfaceJudge::Sums input_sums = judge.input_sums(input.data());
   const double input_rms = input_sums.rms_deg();
   const double own_error = input_sums.own_error_deg();
+  std::size_t best_candidate = 0;
+  // Runs `params` (the `candidate`) pass by pass, scoring each: a pass under `to_beat` is kept
+  // and becomes the bar; judged_passes_end says when to stop. The judged RMS by pass.
+  auto judged_run = [&](const FilterParams& params, std::size_t candidate, double& to_beat) {
+    std::vector<double> rms_by_pass = {input_rms};
+    int best_pass_here = 0;
+    auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      rms_by_pass.push_back(judge.rms_deg(normals.data()));
+      if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
+      if (rms_by_pass.back() < to_beat) {
+        to_beat = rms_by_pass.back();
+        best = normals;
+        best_candidate = candidate;
+        run.passes_kept = pass;
+      }
+      return !detail::judged_passes_end(rms_by_pass, best_pass_here, to_beat, params.iterations);
+    };
+    const FilterSummary summary =
+        filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
+    if (candidate == best_candidate) run.summary = summary;
+    run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
+    return rms_by_pass;
+  };
   // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, own_error);
-  std::size_t best_candidate = 0;
   std::string judged =
       detail::judged_heading(input_rms, own_error, judge.size(), judge.scored(), judge.under_support());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
     params.iterations = detail::judged_pass_budget(params, run.choice);
-    std::vector<double> rms_by_pass = {input_rms};
-    int best_pass_here = 0;
-    // Scores each pass and keeps the best under the bar; judged_passes_end says when to stop.
-    auto after_pass = [&](int pass, const std::vector<double>& normals) {
-      rms_by_pass.push_back(judge.rms_deg(normals.data()));
-      if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
-      if (rms_by_pass.back() < best_rms) {
-        best_rms = rms_by_pass.back();
-        best = normals;
-        best_candidate = c;
-        run.passes_kept = pass;
-      }
-      return !detail::judged_passes_end(rms_by_pass, best_pass_here, best_rms, params.iterations);
-    };
-    const FilterSummary summary =
-        filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
-    if (c == best_candidate) run.summary = summary;
-    judged += detail::judged_candidate(c, params, rms_by_pass);
-    run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
+    judged += detail::judged_candidate(c, params, judged_run(params, c, best_rms));
   }
-  const FilterParams fallback = detail::fallback_setting(run.choice);
-  if (run.passes_kept == 0 && detail::tries_fallback(run.choice)) {
-    const double to_beat = detail::fallback_to_beat(input_rms, own_error);
-    std::vector<double> rms_by_pass = {input_rms};
-    auto after_pass = [&](int pass, const std::vector<double>& normals) {
-      rms_by_pass.push_back(judge.rms_deg(normals.data()));
-      if (rms_by_pass.back() < to_beat) {
-        best = normals;
-        best_candidate = detail::kFallbackCandidate;
-        run.passes_kept = pass;
-      }
-      return true;
-    };
-    const FilterSummary summary =
-        filter.run_observed(cloud, MutableVec3ArrayView(scratch), fallback, after_pass, progress);
-    if (run.passes_kept > 0) run.summary = summary;
-    judged += detail::judged_fallback(fallback, rms_by_pass, to_beat);
-    run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
+  const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, own_error);
+  if (run.passes_kept == 0 && fallback.candidate > 0) {
+    double to_beat = fallback.to_beat;
+    judged += detail::judged_fallback(fallback, judged_run(fallback.params, fallback.candidate, to_beat));
   }
   for (std::size_t i = 0; i < cloud.size(); ++i) normals_out.set(i, {best[3 * i], best[3 * i + 1], best[3 * i + 2]});
   if (run.passes_kept > 0) {
-    run.choice.params = best_candidate == detail::kFallbackCandidate ? fallback : candidates[best_candidate];
+    run.choice.params = best_candidate >= detail::kFallbackCandidate ? fallback.params : candidates[best_candidate];
   }
   run.choice.judged = judged + detail::judged_outcome(best_candidate, run.passes_kept);
   run.choice.params.iterations = run.passes_kept;

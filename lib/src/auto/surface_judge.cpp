@@ -25,6 +25,35 @@ constexpr int kMinNeighbours = 12;
 constexpr int kFinestFit = 32;
 // The supports input_support tries: 16 points, then doubling up to the whole neighbourhood.
 constexpr int kSmallestSupport = 16;
+// plane_fit_count: the fewest points that make a plane, and how near (RMS over the samples,
+// degrees) input normals must be to the planes of their nearest points to be those planes. Normals
+// stored as floats round by about 1e-5 degrees; on the real meshes' clean rows the PCA normals sat
+// 1e-14 degrees from their own count's planes, the exact normals 1.2-16 degrees from every plane
+// tried (docs/auto.md, "The narrow pass for plane-fit normals").
+constexpr int kFewestPlanePoints = 3;
+constexpr double kPlaneFitToleranceDeg = 1e-3;
+
+// Calls at(k, covariance) for each count k = 1, 2, ... `count` of a sample's nearest points
+// (`offsets`, nearest first, x y z rows), their covariance from running sums.
+template <class AtCount>
+void for_each_nearest_count(const double* offsets, int count, AtCount&& at) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  for (int j = 0; j < count; ++j) {
+    const Eigen::Vector3d x(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
+    sum += x;
+    outer += x * x.transpose();
+    const Eigen::Vector3d mean = sum / double(j + 1);
+    at(j + 1, Eigen::Matrix3d(outer / double(j + 1) - mean * mean.transpose()));
+  }
+}
+
+// The angle (radians) between `n` and the plane normal of `covariance` (its least axis), as lines.
+double angle_to_plane(const Eigen::Vector3d& n, const Eigen::Matrix3d& covariance) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Eigen::Vector3d plane = eigen.eigenvectors().col(0);
+  return std::atan2(n.cross(plane).norm(), std::abs(n.dot(plane)));
+}
 
 // The angle (radians) between `n` and the normal of the quadric fitted in n's frame to the
 // sample's neighbours (`offsets`, `count` rows), each weighted by a Gaussian of width `width` on
@@ -235,21 +264,13 @@ int SurfaceJudge::input_support(const double* normals_xyz) const {
   for (long long s = 0; s < static_cast<long long>(samples); ++s) {
     const std::size_t i = ids_[std::size_t(s)];
     const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
-    const double* offsets = &offsets_[std::size_t(s) * k * 3];
-    // The nearest points' sums grow one point at a time; each support's plane is read off them.
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    for (std::size_t next = 0, j = 0; next < count; ++j) {
-      const Eigen::Vector3d x(offsets[3 * j], offsets[3 * j + 1], offsets[3 * j + 2]);
-      sum += x;
-      outer += x * x.transpose();
-      if (int(j) + 1 < supports[next]) continue;
-      const Eigen::Vector3d mean = sum / double(j + 1);
-      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(outer / double(j + 1) - mean * mean.transpose());
-      const Eigen::Vector3d plane = eigen.eigenvectors().col(0);
-      const double angle = std::atan2(n.cross(plane).norm(), std::abs(n.dot(plane)));  // as lines
-      squared[std::size_t(s) * count + next++] = angle * angle;
-    }
+    std::size_t next = 0;
+    for_each_nearest_count(&offsets_[std::size_t(s) * k * 3], supports.back(),
+                           [&](int points, const Eigen::Matrix3d& c) {
+                             if (points != supports[next]) return;
+                             const double angle = angle_to_plane(n, c);
+                             squared[std::size_t(s) * count + next++] = angle * angle;
+                           });
   }
   std::vector<double> total(count, 0.0);
   for (std::size_t s = 0; s < samples; ++s) {
@@ -261,11 +282,51 @@ int SurfaceJudge::input_support(const double* normals_xyz) const {
   return closest + 1 < count ? supports[closest] : 0;
 }
 
+int SurfaceJudge::plane_fit_count(const double* normals_xyz) const {
+  if (empty() || neighbours_ < kFewestPlanePoints) return 0;
+  const std::size_t samples = ids_.size(), k = std::size_t(neighbours_);
+  // How far each normal is from being an axis of each count's covariance, |C n - (n.C n) n|^2 over
+  // trace(C)^2 (0 on an axis; a matrix product per count, so every count can be tried), per sample
+  // and count, then summed in sample order: the same bits on any thread count.
+  std::vector<double> off_axis(samples * k, 0.0);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long long s = 0; s < static_cast<long long>(samples); ++s) {
+    const std::size_t i = ids_[std::size_t(s)];
+    const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
+    for_each_nearest_count(&offsets_[std::size_t(s) * k * 3], neighbours_, [&](int points, const Eigen::Matrix3d& c) {
+      const Eigen::Vector3d product = c * n;
+      const double trace = c.trace();
+      off_axis[std::size_t(s) * k + std::size_t(points) - 1] =
+          trace > 0 ? (product - n.dot(product) * n).squaredNorm() / (trace * trace) : 0.0;
+    });
+  }
+  std::vector<double> total(k, 0.0);
+  for (std::size_t s = 0; s < samples; ++s) {
+    for (std::size_t c = 0; c < k; ++c) total[c] += off_axis[s * k + c];
+  }
+  const auto fewest = total.begin() + (kFewestPlanePoints - 1);
+  const int count = int(std::min_element(fewest, total.end()) - total.begin()) + 1;
+  // The normals are the planes of that count only if each is its covariance's least axis.
+  std::vector<double> squared(samples, 0.0);
+#pragma omp parallel for schedule(dynamic, 16)
+  for (long long s = 0; s < static_cast<long long>(samples); ++s) {
+    const std::size_t i = ids_[std::size_t(s)];
+    const Eigen::Vector3d n(normals_xyz[3 * i], normals_xyz[3 * i + 1], normals_xyz[3 * i + 2]);
+    for_each_nearest_count(&offsets_[std::size_t(s) * k * 3], count, [&](int points, const Eigen::Matrix3d& c) {
+      if (points == count) squared[std::size_t(s)] = std::pow(angle_to_plane(n, c), 2);
+    });
+  }
+  double sum = 0;
+  for (double a : squared) sum += a;
+  return std::sqrt(sum / double(samples)) * 180 / geometry::kPi <= kPlaneFitToleranceDeg ? count : 0;
+}
+
 void SurfaceJudge::choose_scale(const double* normals_xyz) {
   if (empty()) return;
   std::vector<int> candidates = scales_of(neighbours_);
   // Fits that hold no more than half of the points each input normal follows, so that they do
   // not share its smoothing; where the judge cannot fit so few, as before.
+  plane_fits_ = plane_fit_count(normals_xyz);
   const int support = input_support(normals_xyz);
   if (support / 2 >= kFinestFit) {
     under_support_ = support;

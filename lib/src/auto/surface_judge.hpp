@@ -46,7 +46,7 @@ class SurfaceJudge {
   // neighbourhood. Where the input normals follow the plane of 64 or more points (input_support),
   // only scales of at most half that many are weighed, or that half alone: fits over the input's
   // own points share its smoothing and read it low (docs/auto.md). Keeps the input's sums at the
-  // scale chosen (input_sums).
+  // scale chosen (input_sums), and whether they are plane fits (plane_fit_count, plane_fits).
   void choose_scale(const double* normals_xyz);
   // The count of nearest points (16, 32, ... up to the neighbourhood) whose plane (their
   // covariance's least axis) the normals `normals_xyz` follow most closely, RMS over the samples:
@@ -55,6 +55,13 @@ class SurfaceJudge {
   int input_support(const double* normals_xyz) const;
   // The input's support that choose_scale kept its fits under; 0 where it did not.
   int under_support() const { return under_support_; }
+  // The count k (3 up to the neighbourhood) where the normals `normals_xyz` are, at every sample
+  // and to rounding, the planes of the sample's nearest k points (their covariance's least axis):
+  // 16 for `pnf estimate`'s PCA normals over 16 points, as for any tool's PCA normals over k
+  // nearest points. 0 where they are no count's planes (exact normals, tilted ones).
+  int plane_fit_count(const double* normals_xyz) const;
+  // The input's plane_fit_count, where choose_scale measured it; 0 where it did not.
+  int plane_fits() const { return plane_fits_; }
   // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
   static std::vector<int> scales_of(int neighbours);
   void score_with(int points) {
@@ -98,6 +105,7 @@ class SurfaceJudge {
   double width_ = 0;
   Sums input_sums_;  // choose_scale's, at the scale it chose; no samples where it did not run
   int under_support_ = 0;
+  int plane_fits_ = 0;
 };
 
 // The judge's samples, neighbours and width for a cloud of that estimate (estimate_data.cpp, beside

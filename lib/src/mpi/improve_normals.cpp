@@ -47,7 +47,7 @@ class JudgedPasses {
       best_rms_ = judging_.to_beat;
       return;
     }
-    double numbers[5] = {0, 0, 0, 0, 0};
+    double numbers[6] = {0, 0, 0, 0, 0, 0};
     if (judging_.root) {
       const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
       const double* input = judging_.root->input_normals.data();
@@ -57,19 +57,21 @@ class JudgedPasses {
       numbers[2] = double(judge.scored());
       numbers[3] = double(judge.size());
       numbers[4] = double(judge.under_support());
+      numbers[5] = double(judge.plane_fits());
     }
-    detail::check_mpi(MPI_Bcast(numbers, 5, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    detail::check_mpi(MPI_Bcast(numbers, 6, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
     judging_.rms_by_pass.assign(1, numbers[0]);
     judging_.own_error_deg = numbers[1];
     judging_.fit_points = int(numbers[2]);
     judging_.samples = std::size_t(numbers[3]);
     judging_.under_support = int(numbers[4]);
-    // A pass must beat the input by more than the judge's own error explains (the fallback's bar
-    // is the half of it judged_passes.hpp explains).
+    judging_.plane_fits = int(numbers[5]);
+    // A pass must beat the input by more than the judge's own error explains (a fallback's bar is
+    // its own: judged_passes.hpp).
     best_rms_ =
-        std::min(judging_.best_before,
-                 judging_.fallback ? pnf::detail::fallback_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg)
-                                   : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg));
+        std::min(judging_.best_before, judging_.fallback.candidate > 0
+                                           ? judging_.fallback.to_beat
+                                           : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg));
     judging_.best_pass = 0;
   }
 

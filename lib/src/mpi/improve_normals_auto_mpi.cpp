@@ -144,6 +144,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   double best_rms = -1;
   std::size_t best_candidate = 0;
   std::string judged;
+  detail::PassJudging first;  // the rule's setting's judging: the judge's numbers, as every rank has them
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
@@ -156,6 +157,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
     if (c == 0) {
+      first = judging;
       judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.samples,
                                            judging.fit_points, judging.under_support);
     }
@@ -169,18 +171,18 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     }
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
-  const FilterParams fallback = pnf::detail::fallback_setting(run.choice);
-  if (run.passes_kept == 0 && pnf::detail::tries_fallback(run.choice)) {
+  const pnf::detail::Fallback fallback =
+      pnf::detail::fallback_of(run.choice, first.plane_fits, first.rms_by_pass[0], first.own_error_deg);
+  if (run.passes_kept == 0 && fallback.candidate > 0) {
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
-    judging.budget = fallback.iterations;
-    judging.fallback = true;
+    judging.budget = fallback.params.iterations;
+    judging.fallback = fallback;
     const DistributedSummary summary =
-        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), fallback, options, progress, &judging);
-    judged += pnf::detail::judged_fallback(
-        fallback, judging.rms_by_pass, pnf::detail::fallback_to_beat(judging.rms_by_pass[0], judging.own_error_deg));
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), fallback.params, options, progress, &judging);
+    judged += pnf::detail::judged_fallback(fallback, judging.rms_by_pass);
     if (judging.best_pass > 0) {
-      best_candidate = pnf::detail::kFallbackCandidate;
+      best_candidate = fallback.candidate;
       run.passes_kept = judging.best_pass;
       best.swap(trial);
       run.summary = summary;
@@ -190,7 +192,8 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   for (std::size_t i = 0; i < local.size(); ++i) normals_out.set(i, best[i]);
   judged += pnf::detail::judged_outcome(best_candidate, run.passes_kept);
   if (run.passes_kept > 0) {
-    run.choice.params = best_candidate == pnf::detail::kFallbackCandidate ? fallback : candidates[best_candidate];
+    run.choice.params =
+        best_candidate >= pnf::detail::kFallbackCandidate ? fallback.params : candidates[best_candidate];
   }
   run.choice.judged = judged;
   run.choice.params.iterations = run.passes_kept;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "auto/judged_passes.hpp"
 #include "auto/stein_risk.hpp"
 #include "auto/surface_judge.hpp"
 #include "pnf/mpi.hpp"
@@ -33,8 +34,9 @@ struct PassJudging {
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
   int under_support = 0;            // SurfaceJudge::under_support
+  int plane_fits = 0;               // SurfaceJudge::plane_fits
   std::size_t samples = 0;          // the judge's samples
-  bool fallback = false;            // judged against pnf::detail::fallback_to_beat, not rms_to_beat
+  pnf::detail::Fallback fallback;   // where it runs one (candidate above 0): judged against its bar
   // The lowest judged RMS of the settings judged before (one process's running best): a pass is
   // kept, and the passes end (judged_passes_end), against the lower of it and the bar.
   double best_before = std::numeric_limits<double>::infinity();
