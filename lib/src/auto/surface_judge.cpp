@@ -323,10 +323,10 @@ int SurfaceJudge::plane_fit_count(const double* normals_xyz) const {
 
 void SurfaceJudge::choose_scale(const double* normals_xyz) {
   if (empty()) return;
+  plane_fits_ = plane_fit_count(normals_xyz);
   std::vector<int> candidates = scales_of(neighbours_);
   // Fits that hold no more than half of the points each input normal follows, so that they do
   // not share its smoothing; where the judge cannot fit so few, as before.
-  plane_fits_ = plane_fit_count(normals_xyz);
   const int support = input_support(normals_xyz);
   if (support / 2 >= kFinestFit) {
     under_support_ = support;
