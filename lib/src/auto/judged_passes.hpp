@@ -136,10 +136,11 @@ constexpr std::size_t kNarrowPassCandidate = 4;
 // Such normals err by the facets and curvature their k points span; the narrow pass averages
 // neighbouring fits and follows the detail (sigma_g 0.5), and the judge, whose fits see the same
 // facets, cannot score that gain: on the real meshes' and held-out models' clean rows this one
-// pass was truly better than the input on all 36 of the grid (PCA-16, PCA-64, tilts; it kept the
-// input on 8 PCA-16 rows, where it gains 6-17%), while exact normals, which the judge scores as
-// it scores PCA-16 ones, are no count's plane fits and are kept (docs/auto.md, "The narrow pass
-// for plane-fit normals": chosen on those grids, checked on the synthetic shapes after).
+// pass was truly better than the input on all 36 of the grid (PCA-16, PCA-64, tilts; the judge
+// had kept the input on 8 PCA-16 rows, where it gains 6-18%), while exact normals, which the
+// judge scores as it scores PCA-16 ones, are no count's plane fits and are kept (docs/auto.md,
+// "The narrow pass for plane-fit normals": chosen on those grids, checked on the synthetic shapes
+// after).
 bool tries_narrow_pass(const AutoChoice& choice, int plane_fits);
 // The narrow pass's bar: the input's score plus the judge's own error e, as the judge cannot
 // tell a pass within e of the input from it.
