@@ -52,7 +52,8 @@ void for_each_nearest_count(const double* offsets, int count, AtCount&& at) {
 double angle_to_plane(const Eigen::Vector3d& n, const Eigen::Matrix3d& covariance) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
   const Eigen::Vector3d plane = eigen.eigenvectors().col(0);
-  return std::atan2(n.cross(plane).norm(), std::abs(n.dot(plane)));
+  const double angle = geometry::angle_radians({n.x(), n.y(), n.z()}, {plane.x(), plane.y(), plane.z()});
+  return std::min(angle, geometry::kPi - angle);
 }
 
 // The angle (radians) between `n` and the normal of the quadric fitted in n's frame to the
