@@ -58,17 +58,21 @@ std::uint64_t curve_sample_stride(std::uint64_t points) {
   return std::max<std::uint64_t>(1, points / kCurveSamplePoints);
 }
 
+std::uint64_t position_hash(const Vec3& p) {
+  std::uint64_t hash = 0;
+  for (int k = 0; k < 3; ++k) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &p[k], sizeof bits);
+    hash = mix(hash ^ bits);
+  }
+  return hash;
+}
+
 std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t stride) {
   std::vector<double> sample;
   for (std::size_t i = 0; i < positions.count; ++i) {
     const Vec3 p = positions.at(i);
-    std::uint64_t hash = 0;
-    for (int k = 0; k < 3; ++k) {
-      std::uint64_t bits = 0;
-      std::memcpy(&bits, &p[k], sizeof bits);
-      hash = mix(hash ^ bits);
-    }
-    if (hash % stride == 0) sample.insert(sample.end(), p.begin(), p.end());
+    if (position_hash(p) % stride == 0) sample.insert(sample.end(), p.begin(), p.end());
   }
   return sample;
 }

@@ -36,6 +36,9 @@ constexpr double kFarBoxPerBulk = 64;
 // distributed run's ranks pick the points one process picks, whatever rank holds them (and
 // every copy of a point alike).
 std::uint64_t curve_sample_stride(std::uint64_t points);
+// A hash of a point's coordinates (their bits, SplitMix64's finaliser after each): the same for
+// every copy of the point, on every rank, whatever its row.
+std::uint64_t position_hash(const Vec3& p);
 std::vector<double> curve_sample(const Vec3ArrayView& positions, std::uint64_t stride);
 // The `index`-th smallest (from 0) of coordinate `axis` (0-2) over the points of `xyz` (x y z per
 // point, more than `index` of them): the curve frame's quantiles and the origin's medians.

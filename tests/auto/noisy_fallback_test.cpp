@@ -1,10 +1,12 @@
 // --auto's fallback on noisy positions (lib/src/auto/judged_passes.hpp, tries_fallback): where
 // the judged settings keep the input and the positions are not clean, one wide pass at the
 // paper's sigma_f is judged against the input's score less the judge's own error in quadrature;
-// and its counterpart on clean positions, the narrow pass for plane-fit normals.
+// its counterpart on clean positions, the narrow pass for plane-fit normals; and where both keep
+// the input of plane-fit normals on noisy positions, the held-out check (held_out_planes.hpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -64,19 +66,45 @@ TEST(NoisyFallback, KeepsItsPassWhereTheJudgeVouchesForIt) {
   EXPECT_LT(rms_line_angle(out, h.truth), 0.9 * rms_line_angle(h.cloud.normals, h.truth));
 }
 
-// Over PCA-64 normals of the same house the fallback's pass does not beat its bar: the input
-// normals come back (made unit).
+// Over PCA-64 normals of the same house the fallback's pass does not beat its bar; nudged by a
+// hundredth of a degree, the normals are no plane fits, the held-out check does not run and the
+// input normals come back (made unit).
 TEST(NoisyFallback, ReturnsTheInputWhereItsPassMissesTheBar) {
   NoisyHouse h = noisy_house(64);
+  std::mt19937 rng(5);
+  for (Vec3& n : h.cloud.normals) n = jitter_normal(n, 0.01, rng);
   std::vector<Vec3> out(h.cloud.size());
   const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), fastest_filter());
   const std::string& judged = run.choice.judged;
   ASSERT_NE(judged.find("; fallback sigma_f 4"), std::string::npos) << judged;
+  EXPECT_EQ(judged.find("held-out check"), std::string::npos) << judged;
   EXPECT_NE(judged.find(": the input normals kept"), std::string::npos) << judged;
   EXPECT_EQ(run.passes_kept, 0);
   double most = 0;
   for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], h.cloud.normals[i]));
   EXPECT_LT(most, 1e-6);
+}
+
+// The PCA-64 normals themselves are plane fits: where the judge and the fallback keep the input,
+// the held-out check (held_out_planes.hpp) keeps a pass, which is a plain run of its setting and
+// truly better than the input.
+TEST(NoisyFallback, TheHeldOutCheckDecidesWhereTheFallbackMisses) {
+  NoisyHouse h = noisy_house(64);
+  NormalFilter& filter = fastest_filter();
+  std::vector<Vec3> out(h.cloud.size());
+  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), filter);
+  const std::string& judged = run.choice.judged;
+  ASSERT_NE(judged.find("; fallback sigma_f 4"), std::string::npos) << judged;
+  ASSERT_NE(judged.find("; held-out check against the planes"), std::string::npos) << judged;
+  EXPECT_NE(judged.find(": the held-out check's pass"), std::string::npos) << judged;
+  ASSERT_GT(run.passes_kept, 0);
+  EXPECT_EQ(run.choice.params.iterations, run.passes_kept);
+  std::vector<Vec3> direct(h.cloud.size());
+  filter.run(h.cloud, MutableVec3ArrayView(direct), run.choice.params);
+  double most = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], direct[i]));
+  EXPECT_LT(most, 1e-9) << "the kept normals are not the setting's own run";
+  EXPECT_LT(rms_line_angle(out, h.truth), 0.95 * rms_line_angle(h.cloud.normals, h.truth));
 }
 
 // Only where the positions are not clean (the judge's quarter refused), and its bar is the
@@ -112,6 +140,33 @@ TEST(NoisyFallback, NarrowPassOnlyOnCleanPositionsForPlaneFits) {
   const detail::Fallback wide = detail::fallback_of(choice, 16, 5, 3);
   EXPECT_EQ(wide.candidate, detail::kFallbackCandidate);
   EXPECT_DOUBLE_EQ(wide.to_beat, 4);
+}
+
+// The held-out check runs on noisy positions, for plane-fit input normals, where Stein's estimate
+// does not decide; its settings are the rule's (with the judge's budget), the fallback's and plain
+// averaging at the paper's sigma_f, each with up to kJudgedPassBudget passes.
+TEST(NoisyFallback, HeldOutCheckOnlyOnNoisyPositionsForPlaneFits) {
+  AutoChoice choice;
+  choice.estimate.area_spacing = 1;
+  choice.estimate.position_noise = 0.05;
+  EXPECT_FALSE(detail::tries_held_out(choice, 16));
+  choice.estimate.position_noise = 0.1;
+  EXPECT_FALSE(detail::tries_held_out(choice, 0));
+  ASSERT_TRUE(detail::tries_held_out(choice, 16));
+  const std::vector<FilterParams> settings = detail::held_out_settings(choice);
+  ASSERT_EQ(settings.size(), 3u);
+  EXPECT_EQ(settings[0].sigma_f, choice.params.sigma_f);
+  EXPECT_EQ(settings[0].iterations, detail::judged_pass_budget(choice.params, choice));
+  EXPECT_EQ(settings[1].sigma_g, detail::fallback_setting(choice).sigma_g);
+  EXPECT_EQ(settings[2].sigma_g, detail::plain_averaging_setting(choice).sigma_g);
+  EXPECT_EQ(settings[1].iterations, detail::kJudgedPassBudget);
+  EXPECT_EQ(settings[2].iterations, detail::kJudgedPassBudget);
+  // Where Stein's estimate decides (independent errors with a measured noise), it does not.
+  choice.estimate.points = 100000;
+  choice.estimate.normal_noise_deg = 10;
+  choice.estimate.normal_noise_neighbours_deg = 10;
+  ASSERT_TRUE(detail::stein_decides(choice));
+  EXPECT_FALSE(detail::tries_held_out(choice, 16));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@ list(APPEND PNF_AUTO_SOURCES
   ${PROJECT_SOURCE_DIR}/lib/src/auto/vector_exp.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/neighbour_normal_noise.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/stein_risk.cpp
+  ${PROJECT_SOURCE_DIR}/lib/src/auto/held_out_planes.cpp
   ${PROJECT_SOURCE_DIR}/lib/src/auto/improve_normals_auto.cpp)
 # vector_exp's wide steps, each built with its instruction set and run only where the CPU has it.
 if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")

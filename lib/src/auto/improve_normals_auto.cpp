@@ -8,6 +8,7 @@
 
 #include "cloud_checks.hpp"
 #include "filter_engine.hpp"
+#include "held_out_planes.hpp"
 #include "judged_passes.hpp"
 #include "pnf/error.hpp"
 #include "pnf/improve_normals_auto.hpp"
@@ -159,10 +160,10 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
 
 std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
   if (passes_kept == 0) return ": the input normals kept";
-  const char* names[] = {"the rule's setting", "the other setting", "the third setting", "the fallback",
-                         "the narrow pass"};
-  return std::string(": ") + names[std::min(best_candidate, kNarrowPassCandidate)] + ", " +
-         std::to_string(passes_kept) + (passes_kept == 1 ? " pass kept" : " passes kept");
+  const char* names[] = {"the rule's setting", "the other setting", "the third setting",
+                         "the fallback",       "the narrow pass",   "the held-out check's pass"};
+  return std::string(": ") + names[std::min(best_candidate, kHeldOutCandidate)] + ", " + std::to_string(passes_kept) +
+         (passes_kept == 1 ? " pass kept" : " passes kept");
 }
 
 bool detail::tries_fallback(const AutoChoice& choice) { return !judge_geometry(choice.estimate).quarter_allowed; }
@@ -203,6 +204,30 @@ std::string detail::judged_fallback(const Fallback& fallback, const std::vector<
   text += " (to beat: " + number(fallback.to_beat) + ")";
   for (std::size_t pass = 1; pass < rms_by_pass.size(); ++pass) text += " " + number(rms_by_pass[pass]);
   return text;
+}
+
+bool detail::tries_held_out(const AutoChoice& choice, int plane_fits) {
+  return tries_fallback(choice) && !stein_decides(choice) && plane_fits > 0;
+}
+
+std::vector<FilterParams> detail::held_out_settings(const AutoChoice& choice) {
+  std::vector<FilterParams> settings = {choice.params, fallback_setting(choice), plain_averaging_setting(choice)};
+  settings[0].iterations = judged_pass_budget(settings[0], choice);
+  for (std::size_t k = 1; k < settings.size(); ++k) settings[k].iterations = kJudgedPassBudget;
+  return settings;
+}
+
+std::string detail::held_out_heading(std::size_t samples, double input_deg) {
+  return "; held-out check against the planes of the other half's points at " + std::to_string(samples) +
+         " samples, disagreement deg from the input (" + number(input_deg) + ") by pass:";
+}
+
+void detail::prepare_judge(SurfaceJudge& judge, const AutoChoice& choice, const double* input) {
+  if (judge_chooses_scale(choice)) {
+    judge.choose_scale(input);
+  } else if (tries_fallback(choice) && !stein_decides(choice)) {
+    judge.measure_plane_fits(input);
+  }
 }
 
 bool detail::stein_decides(const AutoChoice& choice) {
@@ -262,7 +287,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   // Copies: normals_out may be the cloud's own normals, and every run must read the input, so
   // the runs write elsewhere and normals_out gets the normals kept at the end.
   const std::vector<double> input = detail::unit_rows(cloud.normals);
-  if (detail::judge_chooses_scale(run.choice)) judge.choose_scale(input.data());
+  detail::prepare_judge(judge, run.choice, input.data());
   if (detail::stein_decides(run.choice)) return stein_run(cloud, normals_out, filter, progress, judge, input, run);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());
@@ -270,25 +295,62 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const double input_rms = input_sums.rms_deg();
   const double own_error = input_sums.own_error_deg();
   std::size_t best_candidate = 0;
-  // Runs `params` (the `candidate`) pass by pass, scoring each: a pass under `to_beat` is kept
-  // and becomes the bar; judged_passes_end says when to stop. The judged RMS by pass.
-  auto judged_run = [&](const FilterParams& params, std::size_t candidate, double& to_beat) {
-    std::vector<double> rms_by_pass = {input_rms};
-    int best_pass_here = 0;
+  // The held-out check (judged_passes.hpp), where it may run: its planes and the best pass it
+  // has seen, kept apart from the judge's until the judge's settings and fallback keep the input.
+  const bool held_out = detail::tries_held_out(run.choice, judge.plane_fits());
+  const detail::HeldOutPlanes planes =
+      held_out ? detail::HeldOutPlanes(cloud.positions, input) : detail::HeldOutPlanes();
+  const double held_out_input = planes.score(input.data()).disagreement_deg;
+  double held_out_best = held_out_input;
+  std::vector<double> held_out_normals;
+  FilterParams held_out_params;
+  int held_out_passes = 0;
+  FilterSummary held_out_summary;
+  std::string held_out_text = detail::held_out_heading(planes.size(), held_out_input);
+  // Runs `params` (the `candidate`) pass by pass: the judge scores its first `judged_passes`
+  // passes, a pass under `to_beat` is kept and becomes the bar, and judged_passes_end says when
+  // they end; where `setting` is one of held_out_settings' (its number, else -1), the held-out
+  // check scores every pass too, until the judge keeps one or the check's own passes end.
+  // Returns the judge's RMS by pass.
+  auto judged_run = [&](const FilterParams& params, std::size_t candidate, double& to_beat, int judged_passes,
+                        int setting) {
+    std::vector<double> rms_by_pass = {input_rms}, checked_by_pass = {held_out_input};
+    int best_pass_here = 0, checked_best_here = 0;
+    bool judging = judged_passes > 0, checking = setting >= 0, checked_best = false;
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
-      rms_by_pass.push_back(judge.rms_deg(normals.data()));
-      if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
-      if (rms_by_pass.back() < to_beat) {
-        to_beat = rms_by_pass.back();
-        best = normals;
-        best_candidate = candidate;
-        run.passes_kept = pass;
+      if (judging) {
+        rms_by_pass.push_back(judge.rms_deg(normals.data()));
+        if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
+        if (rms_by_pass.back() < to_beat) {
+          to_beat = rms_by_pass.back();
+          best = normals;
+          best_candidate = candidate;
+          run.passes_kept = pass;
+        }
+        judging =
+            pass < judged_passes && !detail::judged_passes_end(rms_by_pass, best_pass_here, to_beat, judged_passes);
       }
-      return !detail::judged_passes_end(rms_by_pass, best_pass_here, to_beat, params.iterations);
+      checking = checking && run.passes_kept == 0;
+      if (checking) {
+        const detail::HeldOutPlanes::Score score = planes.score(normals.data());
+        checked_by_pass.push_back(score.disagreement_deg);
+        if (score.disagreement_deg < checked_by_pass[std::size_t(checked_best_here)]) checked_best_here = pass;
+        if (score.disagreement_deg < held_out_best && score.gain_z >= detail::kHeldOutMinGainZ) {
+          held_out_best = score.disagreement_deg;
+          held_out_normals = normals;
+          held_out_params = params;
+          held_out_passes = pass;
+          checked_best = true;
+        }
+        checking = !detail::judged_passes_end(checked_by_pass, checked_best_here, detail::kNoBar, params.iterations);
+      }
+      return judging || checking;
     };
     const FilterSummary summary =
         filter.run_observed(cloud, MutableVec3ArrayView(scratch), params, after_pass, progress);
     if (candidate == best_candidate) run.summary = summary;
+    if (checked_best) held_out_summary = summary;
+    if (setting >= 0) held_out_text += detail::judged_candidate(std::size_t(setting), params, checked_by_pass);
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
     return rms_by_pass;
   };
@@ -296,20 +358,41 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   double best_rms = detail::rms_to_beat(input_rms, own_error);
   std::string judged =
       detail::judged_heading(input_rms, own_error, judge.size(), judge.scored(), judge.under_support());
+  const std::vector<FilterParams> checked = detail::held_out_settings(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
     params.iterations = detail::judged_pass_budget(params, run.choice);
-    judged += detail::judged_candidate(c, params, judged_run(params, c, best_rms));
+    const int setting = held_out && c == 0 ? 0 : -1;  // held_out_settings' first is this one
+    judged += detail::judged_candidate(c, params, judged_run(params, c, best_rms, params.iterations, setting));
   }
   const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, own_error);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     double to_beat = fallback.to_beat;
-    judged += detail::judged_fallback(fallback, judged_run(fallback.params, fallback.candidate, to_beat));
+    // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
+    // check's budget; the judge scores its first pass.
+    FilterParams params = fallback.params;
+    if (held_out) params.iterations = checked[1].iterations;
+    judged += detail::judged_fallback(
+        fallback, judged_run(params, fallback.candidate, to_beat, fallback.params.iterations, held_out ? 1 : -1));
+  }
+  if (run.passes_kept == 0 && held_out) {
+    double no_bar = detail::kNoBar;
+    judged_run(checked[2], detail::kHeldOutCandidate, no_bar, 0, 2);
+  }
+  // The check's text only where it decided: where the judge kept a pass, the check stopped.
+  if (run.passes_kept == 0 && held_out) judged += held_out_text;
+  if (run.passes_kept == 0 && held_out_passes > 0) {
+    best.swap(held_out_normals);
+    best_candidate = detail::kHeldOutCandidate;
+    run.passes_kept = held_out_passes;
+    run.summary = held_out_summary;
   }
   for (std::size_t i = 0; i < cloud.size(); ++i) normals_out.set(i, {best[3 * i], best[3 * i + 1], best[3 * i + 2]});
   if (run.passes_kept > 0) {
-    run.choice.params = best_candidate >= detail::kFallbackCandidate ? fallback.params : candidates[best_candidate];
+    run.choice.params = best_candidate == detail::kHeldOutCandidate    ? held_out_params
+                        : best_candidate >= detail::kFallbackCandidate ? fallback.params
+                                                                       : candidates[best_candidate];
   }
   run.choice.judged = judged + detail::judged_outcome(best_candidate, run.passes_kept);
   run.choice.params.iterations = run.passes_kept;

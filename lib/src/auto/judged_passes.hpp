@@ -157,6 +157,30 @@ struct Fallback {
 };
 Fallback fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_deg, double own_error_deg);
 
+// The held-out check on noisy positions (held_out_planes.hpp): where the positions are noisy
+// (tries_fallback) and the input normals are plane fits (SurfaceJudge::plane_fits, measured by
+// prepare_judge), the passes of held_out_settings are also scored against held-out planes, and
+// where the judge keeps the input (its settings and the fallback), the pass nearest those planes
+// is kept if its gain over the input passes kHeldOutMinGainZ. On the real meshes' noisy PCA rows
+// the judge kept the input on 16 of 36 where the grid's best gains up to half the error; its fits
+// read the tilted input of noisy PCA normals at less than half its error (the casting at 0.6%
+// noise, PCA-16: 51.7 deg true, 33.3 judged) and then refuse every gain. Plane fits only: the
+// reference planes are themselves plane fits, and blur edges and detail as such input does,
+// while against scanner-like errors (tilts) the planes' blur made passes that blur edges read as
+// gains (the crank at 0.6% noise, 10-degree tilts: 9.85 deg in, 23.3 out). docs/auto.md, "The
+// held-out check on noisy positions".
+bool tries_held_out(const AutoChoice& choice, int plane_fits);
+// Its settings in the order they run, each with its pass budget as iterations: the rule's
+// (judged_pass_budget), the fallback's and plain averaging at the paper's sigma_f (up to
+// kJudgedPassBudget passes): on the noisy PCA rows the grid's best was one of the two fixed ones,
+// 1 to 4 passes, on 32 of 36.
+std::vector<FilterParams> held_out_settings(const AutoChoice& choice);
+// judged_outcome's number for the held-out check's pass.
+constexpr std::size_t kHeldOutCandidate = 5;
+// The held-out check's part of AutoChoice::judged: its samples and the input's disagreement
+// (degrees), then each setting's by pass (judged_candidate).
+std::string held_out_heading(std::size_t samples, double input_deg);
+
 // Whether Stein's risk estimate (stein_risk.hpp) decides the passes kept: for input normals whose
 // errors are independent of the positions and of each other (independent_normal_errors), whose
 // noise their neighbours' normals measure (DataEstimate::normal_noise_neighbours_deg above 0).
@@ -164,6 +188,12 @@ Fallback fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_
 // of its diagonal, 10-degree tilts: its own error 5.0 deg, its true one about 12; the input kept,
 // where one pass takes 9.85 deg to 5.9), while Stein's estimate shares no error with the filter.
 bool stein_decides(const AutoChoice& choice);
+
+// What the judge measures of the input before any pass, as `choice` needs it: its scale
+// (choose_scale) where it chooses one, else whether the input normals are plane fits where the
+// held-out check may need it (the positions are noisy); `input`: N by 3, unit.
+class SurfaceJudge;
+void prepare_judge(SurfaceJudge& judge, const AutoChoice& choice, const double* input);
 
 // Whether the judge chooses its scale (SurfaceJudge::choose_scale: the input fitted at both) before
 // judging: where the positions allow the quarter (JudgeGeometry::quarter_allowed) and the judge

@@ -60,8 +60,12 @@ class SurfaceJudge {
   // 16 for `pnf estimate`'s PCA normals over 16 points, as for any tool's PCA normals over k
   // nearest points. 0 where they are no count's planes (exact normals, tilted ones).
   int plane_fit_count(const double* normals_xyz) const;
-  // The input's plane_fit_count, where choose_scale measured it; 0 where it did not.
+  // The input's plane_fit_count, where choose_scale or measure_plane_fits measured it; 0 where
+  // neither did.
   int plane_fits() const { return plane_fits_; }
+  // Keeps plane_fit_count of the input normals `normals_xyz` without choosing a scale (on noisy
+  // positions, for the held-out check: judged_passes.hpp).
+  void measure_plane_fits(const double* normals_xyz) { plane_fits_ = empty() ? 0 : plane_fit_count(normals_xyz); }
   // The scales choose_scale weighs for fits of `neighbours` points, the whole neighbourhood first.
   static std::vector<int> scales_of(int neighbours);
   void score_with(int points) {

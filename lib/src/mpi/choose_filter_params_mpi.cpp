@@ -151,7 +151,10 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
     if (root) {
       root->judge = std::move(judge);
       root->input_normals = pnf::detail::unit_rows(whole.normals);
-      if (pnf::detail::judge_chooses_scale(choice)) root->judge.choose_scale(root->input_normals.data());
+      pnf::detail::prepare_judge(root->judge, choice, root->input_normals.data());
+      if (pnf::detail::tries_held_out(choice, root->judge.plane_fits())) {
+        root->held_out = pnf::detail::HeldOutPlanes(whole.positions, root->input_normals);
+      }
       if (pnf::detail::stein_decides(choice)) {
         root->stein = pnf::detail::SteinRisk(pnf::detail::stein_samples(whole.positions), root->input_normals,
                                              choice.estimate.normal_noise_neighbours_deg);
@@ -160,9 +163,10 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
   });
   broadcast(comm, choice);
   if (root) {
-    int empty = rank == 0 ? int(root->judge.empty()) : 1;
-    detail::check_mpi(MPI_Bcast(&empty, 1, MPI_INT, 0, comm), "MPI_Bcast");
-    root->empty = empty != 0;
+    int known[2] = {rank == 0 ? int(root->judge.empty()) : 1, rank == 0 ? root->judge.plane_fits() : 0};
+    detail::check_mpi(MPI_Bcast(known, 2, MPI_INT, 0, comm), "MPI_Bcast");
+    root->empty = known[0] != 0;
+    root->plane_fits = known[1];
   }
   return choice;
 }

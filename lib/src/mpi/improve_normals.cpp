@@ -47,7 +47,7 @@ class JudgedPasses {
       best_rms_ = judging_.to_beat;
       return;
     }
-    double numbers[6] = {0, 0, 0, 0, 0, 0};
+    double numbers[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     if (judging_.root) {
       const pnf::detail::SurfaceJudge& judge = judging_.root->judge;
       const double* input = judging_.root->input_normals.data();
@@ -58,14 +58,24 @@ class JudgedPasses {
       numbers[3] = double(judge.size());
       numbers[4] = double(judge.under_support());
       numbers[5] = double(judge.plane_fits());
+      if (judging_.check) {
+        numbers[6] = judging_.root->held_out.score(input).disagreement_deg;
+        numbers[7] = double(judging_.root->held_out.size());
+      }
     }
-    detail::check_mpi(MPI_Bcast(numbers, 6, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    detail::check_mpi(MPI_Bcast(numbers, 8, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
     judging_.rms_by_pass.assign(1, numbers[0]);
     judging_.own_error_deg = numbers[1];
     judging_.fit_points = int(numbers[2]);
     judging_.samples = std::size_t(numbers[3]);
     judging_.under_support = int(numbers[4]);
     judging_.plane_fits = int(numbers[5]);
+    judging_.checked_by_pass.assign(1, numbers[6]);
+    judging_.checked_samples = std::size_t(numbers[7]);
+    judging_.checked_best_pass = 0;
+    judging_on_ = judging_.budget > 0;
+    checking_on_ = judging_.check;
+    checked_best_ = std::min(judging_.checked_best_before, numbers[6]);
     // A pass must beat the input by more than the judge's own error explains (a fallback's bar is
     // its own: judged_passes.hpp).
     best_rms_ =
@@ -86,14 +96,29 @@ class JudgedPasses {
       estimated_on_root(owned_normals);
       return;
     }
-    const double rms = scored_on_root(owned_normals);
-    judging_.rms_by_pass.push_back(rms);
-    const int pass = int(judging_.rms_by_pass.size()) - 1;
-    if (rms < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass;
-    if (rms < best_rms_) {
-      best_rms_ = rms;
-      judging_.best_pass = pass;
-      best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
+    ++pass_;
+    const Scores scores = scored_on_root(owned_normals);
+    if (judging_on_) {
+      judging_.rms_by_pass.push_back(scores.rms);
+      if (scores.rms < judging_.rms_by_pass[std::size_t(best_here_)]) best_here_ = pass_;
+      if (scores.rms < best_rms_) {
+        best_rms_ = scores.rms;
+        judging_.best_pass = pass_;
+        best_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
+      }
+      judging_on_ = pass_ < judging_.budget &&
+                    !pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, best_rms_, judging_.budget);
+    }
+    checking_on_ = checking_on_ && judging_.best_pass == 0;
+    if (checking_on_) {
+      judging_.checked_by_pass.push_back(scores.disagreement);
+      if (scores.disagreement < judging_.checked_by_pass[std::size_t(checked_here_)]) checked_here_ = pass_;
+      if (scores.disagreement < checked_best_ && scores.gain_z >= pnf::detail::kHeldOutMinGainZ) {
+        checked_best_ = scores.disagreement;
+        judging_.checked_best_pass = pass_;
+        checked_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
+      }
+      checking_on_ = !pnf::detail::judged_passes_end(judging_.checked_by_pass, checked_here_, pnf::detail::kNoBar, 0);
     }
   }
   bool enough() const {
@@ -102,9 +127,11 @@ class JudgedPasses {
       return pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, pnf::detail::kNoBar, judging_.budget) ||
              int(judging_.rms_by_pass.size()) - 1 >= judging_.probed->passes;
     }
-    return pnf::detail::judged_passes_end(judging_.rms_by_pass, best_here_, best_rms_, judging_.budget);
+    return !judging_on_ && !checking_on_;
   }
   const std::vector<double>& best_normals() const { return best_; }
+  // The held-out check's pass's normals (this rank's owned rows); empty where it kept none.
+  const std::vector<double>& checked_normals() const { return checked_; }
 
  private:
   // Rank 0 learns where each rank's rows go in the whole cloud (once).
@@ -124,12 +151,22 @@ class JudgedPasses {
                       "MPI_Gatherv");
   }
 
-  // The judge's RMS of the whole cloud's normals after a pass, scored on rank 0, on every rank.
-  double scored_on_root(const std::vector<double>& owned_normals) {
+  // The judge's RMS of the whole cloud's normals after a pass and the held-out check's score,
+  // each where it still scores, from rank 0, on every rank.
+  struct Scores {
+    double rms = 0, disagreement = 0, gain_z = 0;
+  };
+  Scores scored_on_root(const std::vector<double>& owned_normals) {
     const std::vector<double> whole = gathered_on_root(owned_normals);
-    double rms = judging_.root ? judging_.root->judge.rms_deg(whole.data()) : 0.0;
-    detail::check_mpi(MPI_Bcast(&rms, 1, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
-    return rms;
+    double numbers[3] = {0, 0, 0};
+    if (judging_.root && judging_on_) numbers[0] = judging_.root->judge.rms_deg(whole.data());
+    if (judging_.root && checking_on_ && judging_.best_pass == 0) {
+      const pnf::detail::HeldOutPlanes::Score score = judging_.root->held_out.score(whole.data());
+      numbers[1] = score.disagreement_deg;
+      numbers[2] = score.gain_z;
+    }
+    detail::check_mpi(MPI_Bcast(numbers, 3, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
+    return {numbers[0], numbers[1], numbers[2]};
   }
 
   // Where Stein's estimate decides: the pass's estimate (from rank 0, on every rank), and where it
@@ -183,6 +220,11 @@ class JudgedPasses {
   std::vector<double> best_;
   double best_rms_ = 0;  // to beat: the input's bar, then the best kept pass's
   int best_here_ = 0;    // the lowest judged pass, the input included, for the end of the passes
+  int pass_ = 0;
+  bool judging_on_ = false, checking_on_ = false;  // whether the judge, the held-out check still score
+  std::vector<double> checked_;                    // the check's pass kept, this rank's rows
+  double checked_best_ = 0;                        // the disagreement to beat
+  int checked_here_ = 0;                           // the check's lowest pass, the input included
 };
 
 using Clock = std::chrono::steady_clock;
@@ -352,7 +394,11 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
     summary.local = pnf::detail::run_filter(*backend, resolved, view, MutableVec3ArrayView(new_normals.data(), n),
                                             part_params, progress, &part, twin ? &twin_run : nullptr);
   });
-  if (judged) new_normals = judged->best_normals();
+  std::vector<double> checked_normals;
+  if (judged) {
+    new_normals = judged->best_normals();
+    checked_normals = judged->checked_normals();
+  }
   backend.reset();
   summary.local.mean_radius = filter_plan.radius.value;
   summary.local.radius_source = filter_plan.radius.source;
@@ -379,6 +425,10 @@ DistributedSummary detail::improve_normals(MPI_Comm caller_comm, const CloudView
   }
 
   detail::return_normals(comm, owned, new_normals, normals_out);
+  // The held-out check's pass, where it kept one (the same on every rank).
+  if (judging && judging->check && judging->checked_best_pass > 0) {
+    detail::return_normals(comm, owned, checked_normals, judging->checked_out);
+  }
   return summary;
 }
 

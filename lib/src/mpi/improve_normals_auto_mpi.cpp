@@ -1,6 +1,7 @@
 // pnf::mpi::improve_normals_auto: `pnf filter --auto` across the ranks (pnf/mpi.hpp), as one
 // process's improve_normals_auto (lib/src/auto/improve_normals_auto.cpp) does it.
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -144,6 +145,36 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   double best_rms = -1;
   std::size_t best_candidate = 0;
   std::string judged;
+  // The held-out check, as one process's improve_normals_auto runs it: its settings, the best
+  // pass it has kept (this rank's rows) and its text.
+  const bool held_out = pnf::detail::tries_held_out(run.choice, root.plane_fits);
+  const std::vector<FilterParams> checked_settings = pnf::detail::held_out_settings(run.choice);
+  std::vector<Vec3> checked(held_out ? local.size() : 0), checked_trial(held_out ? local.size() : 0);
+  double checked_best = std::numeric_limits<double>::infinity();
+  FilterParams checked_params;
+  int checked_passes = 0;
+  DistributedSummary checked_summary;
+  std::string checked_text;
+  // The check's part of a run of its `setting` (held_out_settings' number), after the run.
+  auto checked_run = [&](const detail::PassJudging& judging, const FilterParams& params, int setting,
+                         const DistributedSummary& summary) {
+    if (checked_text.empty()) {
+      checked_text = pnf::detail::held_out_heading(judging.checked_samples, judging.checked_by_pass[0]);
+    }
+    checked_text += pnf::detail::judged_candidate(std::size_t(setting), params, judging.checked_by_pass);
+    if (judging.checked_best_pass > 0) {
+      checked.swap(checked_trial);
+      checked_best = judging.checked_by_pass[std::size_t(judging.checked_best_pass)];
+      checked_params = params;
+      checked_passes = judging.checked_best_pass;
+      checked_summary = summary;
+    }
+  };
+  auto checking = [&](detail::PassJudging& judging) {
+    judging.check = true;
+    judging.checked_best_before = checked_best;
+    judging.checked_out = MutableVec3ArrayView(checked_trial);
+  };
   detail::PassJudging first;  // the rule's setting's judging: the judge's numbers, as every rank has them
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
@@ -152,6 +183,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = params.iterations;
     if (c > 0) judging.best_before = best_rms;
+    if (held_out && c == 0) checking(judging);  // held_out_settings' first is this one
     const DistributedSummary summary =
         detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
@@ -162,6 +194,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
                                            judging.fit_points, judging.under_support);
     }
     judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
+    if (held_out && c == 0) checked_run(judging, params, 0, summary);
     if (c == 0 || rms < best_rms) {
       best_candidate = c;
       run.passes_kept = judging.best_pass;
@@ -178,9 +211,17 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = fallback.params.iterations;
     judging.fallback = fallback;
+    // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
+    // check's budget; the judge scores its first pass.
+    FilterParams params = fallback.params;
+    if (held_out) {
+      params.iterations = checked_settings[1].iterations;
+      checking(judging);
+    }
     const DistributedSummary summary =
-        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), fallback.params, options, progress, &judging);
+        detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
     judged += pnf::detail::judged_fallback(fallback, judging.rms_by_pass);
+    if (held_out) checked_run(judging, params, 1, summary);
     if (judging.best_pass > 0) {
       best_candidate = fallback.candidate;
       run.passes_kept = judging.best_pass;
@@ -189,11 +230,29 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     }
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
+  if (run.passes_kept == 0 && held_out) {
+    detail::PassJudging judging;
+    judging.root = rank == 0 ? &root : nullptr;
+    judging.budget = 0;  // the check's alone
+    checking(judging);
+    const DistributedSummary summary = detail::improve_normals(comm, local, MutableVec3ArrayView(trial),
+                                                               checked_settings[2], options, progress, &judging);
+    checked_run(judging, checked_settings[2], 2, summary);
+  }
+  // The check's text only where it decided: where the judge kept a pass, the check stopped.
+  if (run.passes_kept == 0 && held_out) judged += checked_text;
+  if (run.passes_kept == 0 && checked_passes > 0) {
+    best.swap(checked);
+    best_candidate = pnf::detail::kHeldOutCandidate;
+    run.passes_kept = checked_passes;
+    run.summary = checked_summary;
+  }
   for (std::size_t i = 0; i < local.size(); ++i) normals_out.set(i, best[i]);
   judged += pnf::detail::judged_outcome(best_candidate, run.passes_kept);
   if (run.passes_kept > 0) {
-    run.choice.params =
-        best_candidate >= pnf::detail::kFallbackCandidate ? fallback.params : candidates[best_candidate];
+    run.choice.params = best_candidate == pnf::detail::kHeldOutCandidate    ? checked_params
+                        : best_candidate >= pnf::detail::kFallbackCandidate ? fallback.params
+                                                                            : candidates[best_candidate];
   }
   run.choice.judged = judged;
   run.choice.params.iterations = run.passes_kept;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "auto/held_out_planes.hpp"
 #include "auto/judged_passes.hpp"
 #include "auto/stein_risk.hpp"
 #include "auto/surface_judge.hpp"
@@ -20,15 +21,17 @@ namespace pnf::mpi::detail {
 // `empty` is known on every rank.
 struct RootJudge {
   pnf::detail::SurfaceJudge judge;
-  std::vector<double> input_normals;  // N by 3, the concatenation of the ranks' rows
-  pnf::detail::SteinRisk stein;       // where Stein's estimate decides (pnf::detail::stein_decides)
+  std::vector<double> input_normals;    // N by 3, the concatenation of the ranks' rows
+  pnf::detail::SteinRisk stein;         // where Stein's estimate decides (pnf::detail::stein_decides)
+  pnf::detail::HeldOutPlanes held_out;  // where the held-out check may run (pnf::detail::tries_held_out)
   bool empty = true;
+  int plane_fits = 0;  // SurfaceJudge::plane_fits, known on every rank
 };
 
 // What the judged run needs and what it tells: the same on every rank.
 struct PassJudging {
   const RootJudge* root = nullptr;  // rank 0's, where the passes are scored; null elsewhere
-  int budget = 0;                   // the passes the setting may run (pnf::detail::judged_pass_budget)
+  int budget = 0;                   // the passes the judge scores (pnf::detail::judged_pass_budget; 0: none)
   std::vector<double> rms_by_pass;  // the judge's RMS (degrees) of the input, then each pass
   int best_pass = 0;                // 0: the input
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
@@ -40,6 +43,18 @@ struct PassJudging {
   // The lowest judged RMS of the settings judged before (one process's running best): a pass is
   // kept, and the passes end (judged_passes_end), against the lower of it and the bar.
   double best_before = std::numeric_limits<double>::infinity();
+  // The held-out check (pnf::detail::tries_held_out), as one process's judged_run runs it: with
+  // `check`, rank 0 also scores every pass against its held-out planes until a pass of the
+  // judge's is kept or the check's passes end; a pass under the lower of `checked_best_before` and
+  // the input's disagreement whose gain passes kHeldOutMinGainZ is kept (`checked_best_pass`, 0:
+  // none) and its normals go to `checked_out` (this rank's rows). `checked_by_pass`: the input's
+  // disagreement, then each pass's; `checked_samples`: the planes' samples.
+  bool check = false;
+  double checked_best_before = std::numeric_limits<double>::infinity();
+  std::vector<double> checked_by_pass;
+  int checked_best_pass = 0;
+  std::size_t checked_samples = 0;
+  MutableVec3ArrayView checked_out;
   // The run from the probed input where Stein's estimate decides (every rank): its passes are
   // only recorded, all of `budget` (or as many as the stop rule lets run: `passes`).
   bool probing = false;
