@@ -206,14 +206,16 @@ std::string detail::judged_fallback(const Fallback& fallback, const std::vector<
   return text;
 }
 
+bool detail::judge_vetoes(double judged_deg, double input_deg) { return judged_deg > input_deg; }
+
 bool detail::tries_held_out(const AutoChoice& choice, int plane_fits) {
   return tries_fallback(choice) && !stein_decides(choice) && plane_fits > 0;
 }
 
 std::vector<FilterParams> detail::held_out_settings(const AutoChoice& choice) {
-  std::vector<FilterParams> settings = {choice.params, fallback_setting(choice), plain_averaging_setting(choice)};
+  std::vector<FilterParams> settings = {choice.params, fallback_setting(choice)};
   settings[0].iterations = judged_pass_budget(settings[0], choice);
-  for (std::size_t k = 1; k < settings.size(); ++k) settings[k].iterations = kJudgedPassBudget;
+  settings[1].iterations = kJudgedPassBudget;
   return settings;
 }
 
@@ -318,8 +320,10 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     int best_pass_here = 0, checked_best_here = 0;
     bool judging = judged_passes > 0, checking = setting >= 0, checked_best = false;
     auto after_pass = [&](int pass, const std::vector<double>& normals) {
+      double judged_here = -1;  // the judge's score of this pass, where it scored it
       if (judging) {
-        rms_by_pass.push_back(judge.rms_deg(normals.data()));
+        judged_here = judge.rms_deg(normals.data());
+        rms_by_pass.push_back(judged_here);
         if (rms_by_pass.back() < rms_by_pass[std::size_t(best_pass_here)]) best_pass_here = pass;
         if (rms_by_pass.back() < to_beat) {
           to_beat = rms_by_pass.back();
@@ -335,7 +339,8 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
         const detail::HeldOutPlanes::Score score = planes.score(normals.data());
         checked_by_pass.push_back(score.disagreement_deg);
         if (score.disagreement_deg < checked_by_pass[std::size_t(checked_best_here)]) checked_best_here = pass;
-        if (score.disagreement_deg < held_out_best && score.gain_z >= detail::kHeldOutMinGainZ) {
+        if (score.disagreement_deg < held_out_best && score.gain_z >= detail::kHeldOutMinGainZ &&
+            !detail::judge_vetoes(judged_here >= 0 ? judged_here : judge.rms_deg(normals.data()), input_rms)) {
           held_out_best = score.disagreement_deg;
           held_out_normals = normals;
           held_out_params = params;
@@ -375,10 +380,6 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     if (held_out) params.iterations = checked[1].iterations;
     judged += detail::judged_fallback(
         fallback, judged_run(params, fallback.candidate, to_beat, fallback.params.iterations, held_out ? 1 : -1));
-  }
-  if (run.passes_kept == 0 && held_out) {
-    double no_bar = detail::kNoBar;
-    judged_run(checked[2], detail::kHeldOutCandidate, no_bar, 0, 2);
   }
   // The check's text only where it decided: where the judge kept a pass, the check stopped.
   if (run.passes_kept == 0 && held_out) judged += held_out_text;

@@ -113,7 +113,7 @@ class JudgedPasses {
     if (checking_on_) {
       judging_.checked_by_pass.push_back(scores.disagreement);
       if (scores.disagreement < judging_.checked_by_pass[std::size_t(checked_here_)]) checked_here_ = pass_;
-      if (scores.disagreement < checked_best_ && scores.gain_z >= pnf::detail::kHeldOutMinGainZ) {
+      if (checked_candidate(scores) && !pnf::detail::judge_vetoes(scores.rms, judging_.rms_by_pass[0])) {
         checked_best_ = scores.disagreement;
         judging_.checked_best_pass = pass_;
         checked_.assign(owned_normals.begin(), owned_normals.begin() + std::ptrdiff_t(3 * owned_));
@@ -156,17 +156,25 @@ class JudgedPasses {
   struct Scores {
     double rms = 0, disagreement = 0, gain_z = 0;
   };
+  // The judge scores a pass it judges, and one the check would keep, for its veto.
   Scores scored_on_root(const std::vector<double>& owned_normals) {
     const std::vector<double> whole = gathered_on_root(owned_normals);
-    double numbers[3] = {0, 0, 0};
-    if (judging_.root && judging_on_) numbers[0] = judging_.root->judge.rms_deg(whole.data());
-    if (judging_.root && checking_on_ && judging_.best_pass == 0) {
+    Scores scores;
+    if (judging_.root && checking_on_) {
       const pnf::detail::HeldOutPlanes::Score score = judging_.root->held_out.score(whole.data());
-      numbers[1] = score.disagreement_deg;
-      numbers[2] = score.gain_z;
+      scores.disagreement = score.disagreement_deg;
+      scores.gain_z = score.gain_z;
     }
+    if (judging_.root && (judging_on_ || checked_candidate(scores))) {
+      scores.rms = judging_.root->judge.rms_deg(whole.data());
+    }
+    double numbers[3] = {scores.rms, scores.disagreement, scores.gain_z};
     detail::check_mpi(MPI_Bcast(numbers, 3, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
     return {numbers[0], numbers[1], numbers[2]};
+  }
+  // Whether the check would keep a pass of these scores, but for the judge's veto.
+  bool checked_candidate(const Scores& scores) const {
+    return checking_on_ && scores.disagreement < checked_best_ && scores.gain_z >= pnf::detail::kHeldOutMinGainZ;
   }
 
   // Where Stein's estimate decides: the pass's estimate (from rank 0, on every rank), and where it

@@ -230,15 +230,6 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     }
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
-  if (run.passes_kept == 0 && held_out) {
-    detail::PassJudging judging;
-    judging.root = rank == 0 ? &root : nullptr;
-    judging.budget = 0;  // the check's alone
-    checking(judging);
-    const DistributedSummary summary = detail::improve_normals(comm, local, MutableVec3ArrayView(trial),
-                                                               checked_settings[2], options, progress, &judging);
-    checked_run(judging, checked_settings[2], 2, summary);
-  }
   // The check's text only where it decided: where the judge kept a pass, the check stopped.
   if (run.passes_kept == 0 && held_out) judged += checked_text;
   if (run.passes_kept == 0 && checked_passes > 0) {
