@@ -41,6 +41,18 @@ NoisyHouse noisy_house(int k, double position_noise = 0.5) {
   return h;
 }
 
+// The largest angle (degrees) between --auto's normals `out` and a plain run of the setting it
+// kept (run.choice.params, its passes): the same passes, but a plain run divides its output by its
+// length once more, in double.
+double angle_from_plain_run(NormalFilter& filter, const PointCloud& cloud, const AutoRun& run,
+                            const std::vector<Vec3>& out) {
+  std::vector<Vec3> direct(cloud.size());
+  filter.run(cloud, MutableVec3ArrayView(direct), run.choice.params);
+  double most = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], direct[i]));
+  return most;
+}
+
 // The rule's passes over PCA-16 normals of the noisy house stay above the judge's full bar; the
 // fallback's one pass beats the input's score less the judge's own error, and is kept: the
 // fallback's own run, and truly better than the input.
@@ -57,12 +69,7 @@ TEST(NoisyFallback, KeepsItsPassWhereTheJudgeVouchesForIt) {
   EXPECT_EQ(run.choice.params.sigma_g, FilterParams().sigma_f / 2);
   EXPECT_EQ(run.choice.params.units, Units::radius);
   EXPECT_EQ(run.choice.params.iterations, 1);
-  std::vector<Vec3> direct(h.cloud.size());
-  filter.run(h.cloud, MutableVec3ArrayView(direct), run.choice.params);
-  // The same pass; a plain run divides its output by its length once more, in double.
-  double most = 0;
-  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], direct[i]));
-  EXPECT_LT(most, 1e-9) << "the kept normals are not the fallback's own run";
+  EXPECT_LT(angle_from_plain_run(filter, h.cloud, run, out), 1e-9) << "the kept normals are not the fallback's own run";
   EXPECT_LT(rms_line_angle(out, h.truth), 0.9 * rms_line_angle(h.cloud.normals, h.truth));
 }
 
@@ -99,11 +106,7 @@ TEST(NoisyFallback, TheHeldOutCheckDecidesWhereTheFallbackMisses) {
   EXPECT_NE(judged.find(": the held-out check's pass"), std::string::npos) << judged;
   ASSERT_GT(run.passes_kept, 0);
   EXPECT_EQ(run.choice.params.iterations, run.passes_kept);
-  std::vector<Vec3> direct(h.cloud.size());
-  filter.run(h.cloud, MutableVec3ArrayView(direct), run.choice.params);
-  double most = 0;
-  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], direct[i]));
-  EXPECT_LT(most, 1e-9) << "the kept normals are not the setting's own run";
+  EXPECT_LT(angle_from_plain_run(filter, h.cloud, run, out), 1e-9) << "the kept normals are not the setting's own run";
   EXPECT_LT(rms_line_angle(out, h.truth), 0.95 * rms_line_angle(h.cloud.normals, h.truth));
   EXPECT_LT(mean_angle_deg(out, h.truth), 0.95 * mean_angle_deg(h.cloud.normals, h.truth));
 }
