@@ -163,8 +163,8 @@ Fallback fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_
 // where the judge keeps the input (its settings and the fallback), the pass nearest those planes
 // is kept if its gain over the input passes kHeldOutMinGainZ. On the real meshes' noisy PCA rows
 // the judge kept the input on 16 of 36 where the grid's best gains up to half the error; its fits
-// read the tilted input of noisy PCA normals at less than half its error (the casting at 0.6%
-// noise, PCA-16: 51.7 deg true, 33.3 judged) and then refuse every gain. Plane fits only: the
+// read noisy PCA input normals well under their error (the casting at 0.6% noise, PCA-16: 51.7
+// deg true, 33.3 judged, its own error 17.2) and its bar then refuses every gain. Plane fits only: the
 // reference planes are themselves plane fits, and blur edges and detail as such input does,
 // while against scanner-like errors (tilts) the planes' blur made passes that blur edges read as
 // gains (the crank at 0.6% noise, 10-degree tilts: 9.85 deg in, 23.3 out). docs/auto.md, "The
