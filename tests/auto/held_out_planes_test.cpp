@@ -91,5 +91,20 @@ TEST(HeldOutPlanes, IndependentOfTheRowOrder) {
   EXPECT_EQ(a.gain_z, b.gain_z);
 }
 
+// Points on a line make no plane: no sample is scored, and the score of any normals is 0 with
+// no gain (the check then keeps nothing).
+TEST(HeldOutPlanes, NoPlaneOnALine) {
+  std::vector<Vec3> positions, normals;
+  for (int i = 0; i < 2000; ++i) {
+    positions.push_back({0.01 * i, 0, 0});
+    normals.push_back({0, 0, 1});
+  }
+  const detail::HeldOutPlanes planes(positions, xyz_rows(normals));
+  EXPECT_TRUE(planes.empty());
+  const detail::HeldOutPlanes::Score score = planes.score(xyz_rows(normals).data());
+  EXPECT_EQ(score.disagreement_deg, 0.0);
+  EXPECT_EQ(score.gain_z, 0.0);
+}
+
 }  // namespace
 }  // namespace pnf::test

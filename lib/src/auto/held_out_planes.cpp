@@ -68,6 +68,9 @@ HeldOutPlanes::HeldOutPlanes(const Vec3ArrayView& positions, const std::vector<d
       if (count < kHeldOutPlanePoints) continue;
       const Eigen::Matrix<double, 3, kHeldOutPlanePoints> spread = points.colwise() - points.rowwise().mean();
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread * spread.transpose());
+      // Points on one line or at one place (a scanner's repeated returns) make no plane, as in
+      // the estimate's fits (sample_fit.cpp): no reference there.
+      if (!(solver.eigenvalues()(1) > 0)) continue;
       Eigen::Vector3d plane = solver.eigenvectors().col(0);
       if (plane.dot(oriented) < 0) plane = -plane;
       for (int k = 0; k < 3; ++k) planes[3 * s + std::size_t(k)] = plane[k];
