@@ -28,6 +28,35 @@ TEST(EstimateData, SpacingOfAGridIsItsStep) {
   EXPECT_EQ(e.points, grid.size());
 }
 
+// A thin plate: two clean grids 2 spacings apart, whose outward normals face away from each
+// other. Every fit reaches the far wall: fitted with it, the gap reads as position noise (the
+// residual of a surface between the walls, about half the gap); fitted to the sample's own
+// sheet (the neighbours whose normals do not face away from its own), as a single grid's, none.
+TEST(EstimateData, TheFarWallOfAThinPartIsNotNoise) {
+  const double h = 0.5, gap = 2 * h;
+  PointCloud plate = jittered_grid(80, h, 0.1, 3);
+  for (Vec3& n : plate.normals) n = {0, 0, -1};
+  const PointCloud top = jittered_grid(80, h, 0.1, 4);
+  for (std::size_t i = 0; i < top.size(); ++i) {
+    const Vec3 p = top.positions[i];
+    plate.positions.push_back({p[0], p[1], p[2] + gap});
+    plate.normals.push_back({0, 0, 1});
+  }
+  EXPECT_LT(estimate_data(plate).position_noise, 0.05 * h) << "each wall is a flat grid";
+  PointCloud bare = plate;
+  bare.normals.clear();
+  const double without_normals = estimate_data(bare).position_noise;
+  EXPECT_GT(without_normals, 0.3 * gap) << "without normals the walls are one noisy layer";
+  // Normals of arbitrary sign (unoriented PCA's) face away from half their neighbours on one
+  // sheet too: they tell no sheets apart and the fits keep every point, as without normals.
+  PointCloud unoriented = plate;
+  std::mt19937 rng(5);
+  for (Vec3& n : unoriented.normals) {
+    if (rng() % 2) n = {-n[0], -n[1], -n[2]};
+  }
+  EXPECT_EQ(estimate_data(unoriented).position_noise, without_normals);
+}
+
 TEST(EstimateData, PlaneWithKnownNoise) {
   for (double noise : {0.1, 0.3, 1.0, 2.0}) {
     const Noisy n = random_plane(20000, noise, 8, 11);

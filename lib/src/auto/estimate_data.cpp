@@ -125,6 +125,11 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
     return searched[key] =
                detail::sample_neighbourhoods(index, curve, rank, key.first, neighbours, report, "estimate_data");
   };
+  // Whether the fits keep to each sample's own sheet (sample_fit.hpp), read from the smallest
+  // scale's neighbourhoods, which the first fits search anyway.
+  const int smallest = int(std::min<std::size_t>(std::size_t(kScales[0]), count - 1)) + 1;  // the sample too
+  const bool by_sheet =
+      detail::normals_oriented(cloud, neighbourhoods_of(detail::samples_at_scale(count, smallest), smallest));
   auto fit_scale = [&](int scale) -> const std::vector<SampleFit>& {
     const int neighbours = int(std::min<std::size_t>(std::size_t(scale), count - 1)) + 1;  // the sample too
     const Scale key(detail::samples_at_scale(count, neighbours), neighbours);
@@ -135,7 +140,7 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
 #pragma omp parallel for schedule(dynamic, 16)
     for (long long s = 0; s < static_cast<long long>(n.samples()); ++s) {
       fits[std::size_t(s)] = fit_sample(centred, cloud, n.selves[std::size_t(s)], n.ids_of(std::size_t(s)),
-                                        n.squared_distances_of(std::size_t(s)), neighbours);
+                                        n.squared_distances_of(std::size_t(s)), neighbours, by_sheet);
     }
     fits.erase(std::remove_if(fits.begin(), fits.end(), [](const SampleFit& f) { return !f.ok; }), fits.end());
     return fitted[key] = std::move(fits);
@@ -232,9 +237,9 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   }
   if (cloud.has_normals()) {
     // The smallest scale's neighbourhoods (searched first, always), nearest first.
-    const int nearest = int(std::min<std::size_t>(std::size_t(kScales[0]), count - 1)) + 1;
     estimate.normal_noise_neighbours_deg = detail::neighbour_normal_noise_deg(
-        centred, cloud, neighbourhoods_of(detail::samples_at_scale(count, nearest), nearest), estimate.position_noise);
+        centred, cloud, neighbourhoods_of(detail::samples_at_scale(count, smallest), smallest),
+        estimate.position_noise);
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
     const double turned_deg =
         std::max(kNormalCreasePerTypical * medians(fits, &SampleFit::local_angle_deg), kNormalCreaseFloorDeg);

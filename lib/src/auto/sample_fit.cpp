@@ -6,6 +6,7 @@
 
 #include "geometry.hpp"
 #include "quadric_moments.hpp"
+#include "sample_neighbourhoods.hpp"
 
 namespace pnf::detail {
 namespace {
@@ -23,13 +24,41 @@ constexpr double kCorrelationReachSpacings = 2.5;
 // neighbourhood, whose error is mostly the noise of the positions near the sample.
 constexpr int kCouplingNeighbours = 16;
 
-// The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` (PCA), on
-// the side of `side`; zero when fewer points are there or they span no plane.
+// A neighbour whose input normal turns from the sample's by more than this (the cosine of 154
+// degrees) lies on another sheet: the far wall of a thin part, which faces the other way. Fitted
+// with the sample's own sheet, its gap reads as position noise (the cup sampled at 10k points:
+// the nearest point of its other wall a median 7 nearest-neighbour distances away, inside the
+// smallest fits, read as 6.1 spacings of noise on clean positions; docs/auto.md, "Sparse
+// clouds"). A single sheet turns its normals that far only at a crease sharper than 26 degrees,
+// and noise only where two normals each err by some 77 degrees: at 120 degrees the noisiest PCA
+// normals lost points of their own sheet (the casting at 6k points and 0.6% noise).
+constexpr double kOtherSheetCos = -0.9;
+
+// Whether the normals `a` and `b` (any length) face away from each other: another sheet.
+bool face_away(const Vec3& a, const Vec3& b) {
+  return geometry::dot(a, b) < kOtherSheetCos * geometry::norm(a) * geometry::norm(b);
+}
+
+// Which of the neighbourhood `ids` lie on the sample's own sheet: all unless `by_sheet`.
+std::vector<char> on_own_sheet(const CloudView& cloud, std::size_t self, const std::size_t* ids, int count,
+                               bool by_sheet) {
+  std::vector<char> own(static_cast<std::size_t>(count), 1);
+  if (!by_sheet) return own;
+  const Vec3 mine = cloud.normals.at(self);
+  for (int k = 0; k < count; ++k) own[std::size_t(k)] = !face_away(mine, cloud.normals.at(ids[k]));
+  return own;
+}
+
+// The unit normal of the plane through the kCouplingNeighbours nearest of `offsets` on the
+// sample's sheet (PCA), on the side of `side`; zero when fewer points are there or they span no
+// plane.
 Eigen::Vector3d nearest_points_normal(const std::vector<Eigen::Vector3d>& offsets, const double* squared_distances,
-                                      int count, const Eigen::Vector3d& side) {
-  if (count < kCouplingNeighbours) return Eigen::Vector3d::Zero();
-  std::vector<int> order(static_cast<std::size_t>(count));
-  for (int k = 0; k < count; ++k) order[std::size_t(k)] = k;
+                                      const std::vector<char>& own_sheet, const Eigen::Vector3d& side) {
+  std::vector<int> order;
+  for (int k = 0; k < int(offsets.size()); ++k) {
+    if (own_sheet[std::size_t(k)]) order.push_back(k);
+  }
+  if (int(order.size()) < kCouplingNeighbours) return Eigen::Vector3d::Zero();
   std::nth_element(order.begin(), order.begin() + (kCouplingNeighbours - 1), order.end(),
                    [&](int a, int b) { return squared_distances[a] < squared_distances[b]; });
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -48,22 +77,47 @@ Eigen::Vector3d nearest_points_normal(const std::vector<Eigen::Vector3d>& offset
 
 }  // namespace
 
+bool normals_oriented(const CloudView& cloud, const SampleNeighbourhoods& nearest) {
+  if (!cloud.has_normals()) return false;
+  std::size_t facing_away = 0, pairs = 0;
+  for (std::size_t s = 0; s < nearest.samples(); ++s) {
+    const std::size_t self = nearest.selves[s];
+    const std::size_t* ids = nearest.ids_of(s);
+    for (int k = 0; k < nearest.neighbours; ++k) {
+      if (ids[k] == self) continue;
+      facing_away += face_away(cloud.normals.at(self), cloud.normals.at(ids[k]));
+      ++pairs;
+      break;
+    }
+  }
+  return 4 * facing_away <= pairs;
+}
+
 SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
-                     const std::size_t* ids, const double* squared_distances, int count) {
+                     const std::size_t* ids, const double* squared_distances, int count, bool by_sheet) {
   SampleFit fit;
   const Eigen::Vector3d origin(centred[self * 3], centred[self * 3 + 1], centred[self * 3 + 2]);
+  // The surface is fitted to the sample's own sheet; the density counts every point.
+  const std::vector<char> own_sheet = on_own_sheet(cloud, self, ids, count, by_sheet);
   std::vector<Eigen::Vector3d> offsets(static_cast<std::size_t>(count));
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double farthest_squared = 0;
+  int on_sheet = 0;
   for (int k = 0; k < count; ++k) {
     const std::size_t id = ids[k];
     offsets[std::size_t(k)] = Eigen::Vector3d(centred[id * 3], centred[id * 3 + 1], centred[id * 3 + 2]) - origin;
-    centroid += offsets[std::size_t(k)];
     farthest_squared = std::max(farthest_squared, squared_distances[k]);  // FLANN's L2 is squared
+    if (!own_sheet[std::size_t(k)]) continue;
+    centroid += offsets[std::size_t(k)];
+    ++on_sheet;
   }
-  centroid /= double(count);
+  centroid /= double(on_sheet);  // the sample itself is on its sheet
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& o : offsets) covariance += (o - centroid) * (o - centroid).transpose();
+  for (int k = 0; k < count; ++k) {
+    if (!own_sheet[std::size_t(k)]) continue;
+    const Eigen::Vector3d o = offsets[std::size_t(k)] - centroid;
+    covariance += o * o.transpose();
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
   const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
   const Eigen::Vector3d t1 = eigen.eigenvectors().col(2);
@@ -75,10 +129,13 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
   // model scale), over the points within rho of the normal's axis, each weighed alike.
   thread_local std::vector<double> us, vs, heights, ones;  // one fit at a time per thread
   us.clear(), vs.clear(), heights.clear();
-  for (const Eigen::Vector3d& o : offsets) {
+  int in_cylinder = 0;
+  for (int k = 0; k < count; ++k) {
+    const Eigen::Vector3d& o = offsets[std::size_t(k)];
     const double u = o.dot(t1) / rho, v = o.dot(t2) / rho;
     if (u * u + v * v > 1.0) continue;
-    us.push_back(u), vs.push_back(v), heights.push_back(o.dot(normal) / rho);
+    ++in_cylinder;
+    if (own_sheet[std::size_t(k)]) us.push_back(u), vs.push_back(v), heights.push_back(o.dot(normal) / rho);
   }
   const int fitted = int(us.size());
   if (fitted < kMinFitPoints) return fit;
@@ -94,7 +151,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
   fit.ok = std::isfinite(rss);
   fit.radius = rho;
   fit.residual = rho * std::sqrt(rss / double(fitted - 6));
-  fit.area_spacing = std::sqrt(kPi * rho * rho / double(fitted));
+  fit.area_spacing = std::sqrt(kPi * rho * rho / double(in_cylinder));
   {
     // Hessian of the height field in model units: the fit is in units of rho.
     const double a = 2 * c(3) / rho, b = c(4) / rho, d = 2 * c(5) / rho;
@@ -118,7 +175,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
     if (input.squaredNorm() > 0) {
       fit.angle_deg = angle_degrees({surface.x(), surface.y(), surface.z()}, {input.x(), input.y(), input.z()});
       const Eigen::Vector3d error = input - surface;
-      const Eigen::Vector3d from_positions = nearest_points_normal(offsets, squared_distances, count, surface);
+      const Eigen::Vector3d from_positions = nearest_points_normal(offsets, squared_distances, own_sheet, surface);
       if (from_positions.squaredNorm() > 0) {
         const Eigen::Vector3d positions_error = from_positions - surface;
         fit.coupling_dot = error.dot(positions_error);
@@ -129,7 +186,7 @@ SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud,
       Eigen::Vector3d local_error = error;
       int local_count = 1;
       for (int k = 0; k < count; ++k) {
-        if (ids[k] == self) continue;
+        if (ids[k] == self || !own_sheet[std::size_t(k)]) continue;
         const Eigen::Vector3d& o = offsets[std::size_t(k)];
         const double u = o.dot(t1), v = o.dot(t2);
         if (u * u + v * v > reach * reach) continue;

@@ -51,7 +51,19 @@ struct SampleFit {
 // by curvature (the even terms are orthogonal to the odd ones). With normals, also compares the
 // input normals with the quadric's: at the sample (angle_deg) and, for the correlation of the
 // errors, at the points near it; and with a PCA normal of the nearest points (the coupling).
+// `by_sheet` (normals_oriented): the frame and the quadric are fitted to the sample's own sheet
+// only, the neighbours whose input normals do not face away from the sample's (the far wall of a
+// thin part does); the spacing still counts every point of the cylinder.
 SampleFit fit_sample(const std::vector<double>& centred, const CloudView& cloud, std::size_t self,
-                     const std::size_t* ids, const double* squared_distances, int count);
+                     const std::size_t* ids, const double* squared_distances, int count, bool by_sheet);
+
+struct SampleNeighbourhoods;
+// Whether the cloud's normals are oriented, so that a neighbour whose normal faces away from a
+// sample's lies on another sheet: at most a quarter of `nearest`'s samples have a nearest other
+// point whose normal faces away from theirs. Normals of arbitrary sign face away from about half
+// their nearest neighbours; oriented ones only where the nearest point is on another sheet, a
+// wall thinner than the spacing, which the fits could not tell apart anyway. False without
+// normals.
+bool normals_oriented(const CloudView& cloud, const SampleNeighbourhoods& nearest);
 
 }  // namespace pnf::detail
