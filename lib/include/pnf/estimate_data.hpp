@@ -29,7 +29,9 @@ struct DataEstimate {
   // it is h; on uniformly random samples about 1.2 times the estimated mean radius.
   double area_spacing = 0;
   // Standard deviation of the positions along the surface normal: the residual of local
-  // quadric fits, the median over the samples.
+  // quadric fits, the median over the samples. Where the cloud's normals are oriented, each fit
+  // keeps to its sample's own sheet (the neighbours whose normals do not face away from the
+  // sample's), so that the far wall of a thin part is not read as noise.
   double position_noise = 0;
   // RMS angle in degrees between the input normals and the normals of the fitted quadrics, as
   // lines (min(t, 180 - t)), from the median angle assuming a Rayleigh distribution; robust to
