@@ -284,6 +284,7 @@ void bind_results(py::module_& m) {
       .def_readonly("position_noise", &DataEstimate::position_noise)
       .def_readonly("normal_noise_deg", &DataEstimate::normal_noise_deg)
       .def_readonly("normal_noise_neighbours_deg", &DataEstimate::normal_noise_neighbours_deg)
+      .def_readonly("normal_noise_chords_deg", &DataEstimate::normal_noise_chords_deg)
       .def_readonly("fit_neighbours", &DataEstimate::fit_neighbours)
       .def_readonly("fit_radius", &DataEstimate::fit_radius)
       .def_readonly("feature_share", &DataEstimate::feature_share)

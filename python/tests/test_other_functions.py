@@ -70,7 +70,9 @@ def test_choose_params_reports_what_it_measured():
     without = pnf.choose_params(points)
     assert without.estimate.normal_noise_deg == -1
     assert without.estimate.normal_noise_neighbours_deg == -1
+    assert without.estimate.normal_noise_chords_deg == -1
     assert choice.estimate.normal_noise_neighbours_deg >= 0
+    assert choice.estimate.normal_noise_chords_deg >= 0
 
 
 def test_devices():

@@ -1,7 +1,7 @@
 // Stein's risk estimate of filtered normals (lib/src/auto/stein_risk.hpp), the input normals'
-// noise it takes from their neighbours (neighbour_normal_noise.hpp, DataEstimate::
-// normal_noise_neighbours_deg), and the passes improve_normals_auto keeps with it, against true
-// normals the tests know.
+// noise it takes from their neighbours and from the chords to them (neighbour_normal_noise.hpp,
+// DataEstimate::normal_noise_neighbours_deg and normal_noise_chords_deg), and the passes
+// improve_normals_auto keeps with it, against true normals the tests know.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +13,7 @@
 #include "auto/stein_risk.hpp"
 #include "crease_clouds.hpp"
 #include "expect_error.hpp"
+#include "pnf/choose_filter_params.hpp"
 #include "pnf/estimate_data.hpp"
 #include "pnf/improve_normals_auto.hpp"
 #include "test_clouds.hpp"
@@ -130,6 +131,69 @@ TEST(NeighbourNormalNoise, ReadsIndependentErrorsOnNoisyPositions) {
     for (double& x : p) x += gauss(rng);
   }
   EXPECT_NEAR(estimate_data(c).normal_noise_neighbours_deg, noise, 0.05 * noise);
+}
+
+// Random points on the unit square of height a sin(k x) sin(k y), with their exact normals: a
+// wavelength of `wavelength` spacings (1 / sqrt(points)), slopes up to 20 degrees.
+PointCloud fine_bumps(int points, double wavelength, unsigned seed) {
+  const double k = 2 * kPi / (wavelength / std::sqrt(double(points)));
+  const double a = std::tan(20 * kPi / 180) / k;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  PointCloud c;
+  for (int i = 0; i < points; ++i) {
+    const double x = u(rng), y = u(rng);
+    c.positions.push_back({x, y, a * std::sin(k * x) * std::sin(k * y)});
+    c.normals.push_back(
+        normalized({-a * k * std::cos(k * x) * std::sin(k * y), -a * k * std::sin(k * x) * std::cos(k * y), 1.0}));
+  }
+  return c;
+}
+
+// The chords' reading of the noise: the errors' own size where they are independent, and detail
+// finer than a neighbour fit does not enter (exact normals of bumps 8 spacings wide, which the
+// neighbours' linear field reads as noise); position noise does, so Stein takes the smaller.
+TEST(ChordNormalNoise, ReadsIndependentErrorsAndNotFineDetail) {
+  const PointCloud& c = tilted_sphere();
+  const double noise = rms_deg(c.normals, sphere_truth());
+  // A median of about 12000 chords, as NeighbourNormalNoise allows (it read 10.24 for 10.38).
+  EXPECT_NEAR(estimate_data(c).normal_noise_chords_deg, noise, 0.04 * noise);
+  // A sphere's chords meet its exact normals at exactly equal angles: rounding only.
+  EXPECT_LT(estimate_data(sphere(20000, 1.0, 11)).normal_noise_chords_deg, 1e-6);
+  // Bumps 8 spacings wide: a chord of about 0.6 spacings leaves the third-order term, about
+  // a k^3 |d|^2 / 12 = 0.4 deg (read 0.87); the neighbours' field read 7.8.
+  const DataEstimate bumps = estimate_data(fine_bumps(20000, 8, 3));
+  EXPECT_GT(bumps.normal_noise_neighbours_deg, 5);
+  EXPECT_LT(bumps.normal_noise_chords_deg, 1.5);
+  EXPECT_EQ(detail::stein_noise_deg(choose_filter_params(bumps)), bumps.normal_noise_chords_deg);
+  // Positions moved by half a spacing, exact normals: the chords read the positions' offsets
+  // (70 deg), the neighbours nearly nothing, and Stein takes theirs.
+  PointCloud moved = sphere(20000, 1.0, 11);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> gauss(0, 0.5 * std::sqrt(4 * kPi / 20000));
+  for (Vec3& p : moved.positions) {
+    for (double& x : p) x += gauss(rng);
+  }
+  const DataEstimate m = estimate_data(moved);
+  EXPECT_GT(m.normal_noise_chords_deg, 10 * m.normal_noise_neighbours_deg);
+  EXPECT_EQ(detail::stein_noise_deg(choose_filter_params(m)), m.normal_noise_neighbours_deg);
+  PointCloud none = moved;
+  none.normals.clear();
+  EXPECT_EQ(estimate_data(none).normal_noise_chords_deg, -1);
+}
+
+// Exact normals of bumps finer than a neighbour fit, clean positions: the neighbours' field read
+// them as 7.8 deg of noise, and with that noise Stein's estimate found passes that gain; with
+// the chords' 0.9 deg every pass costs more than it gains and the input is kept (with the
+// neighbours' noise, 4 passes were kept: 0 deg in, 5.0 out).
+TEST(ImproveNormalsAuto, KeepsExactNormalsOfDetailFinerThanTheNoiseFit) {
+  const PointCloud c = fine_bumps(20000, 8, 3);
+  std::vector<Vec3> out(c.size());
+  const AutoRun run = improve_normals_auto(c, MutableVec3ArrayView(out), fastest_filter());
+  SCOPED_TRACE(run.choice.rule + "; " + run.choice.judged);
+  ASSERT_TRUE(detail::stein_decides(run.choice));
+  EXPECT_EQ(run.passes_kept, 0);
+  EXPECT_LT(rms_deg(out, c.normals), 1e-6);  // kept normals come back unit length: rounding only
 }
 
 // The whole run on tilted normals: Stein's estimate decides, and the normals kept are much

@@ -346,6 +346,9 @@ void expect_auto_as_one_process(const PointCloud& cloud, const AutoRun& one, con
     EXPECT_EQ(run.passes_kept, one.passes_kept);
     EXPECT_EQ(run.choice.params.sigma_f, one.choice.params.sigma_f);
     EXPECT_EQ(run.choice.params.sigma_g, one.choice.params.sigma_g);
+    // Every rank's estimate is rank 0's (broadcast): Stein's noise among it.
+    EXPECT_EQ(run.choice.estimate.normal_noise_neighbours_deg, one.choice.estimate.normal_noise_neighbours_deg);
+    EXPECT_EQ(run.choice.estimate.normal_noise_chords_deg, one.choice.estimate.normal_noise_chords_deg);
     std::size_t differ = 0;
     for (std::size_t i = 0; i < part.size(); ++i) differ += normals[i] != expected[begin + i];
     EXPECT_EQ(differ, 0u) << "normals not one process's";

@@ -190,10 +190,11 @@ void print_auto(const AutoChoice& choice, double seconds) {
                e.position_noise, e.position_noise_area_spacings());
   if (e.normal_noise_deg >= 0) {
     std::fprintf(stderr,
-                 "  normal noise     %.3g deg RMS (%.3g from the neighbours' normals), errors of nearby normals "
-                 "correlated %.2f, coupled to the positions %.2f; crease length in the normals %.2f per size\n",
-                 e.normal_noise_deg, e.normal_noise_neighbours_deg, e.normal_error_correlation,
-                 e.normal_position_coupling, e.normal_crease_length);
+                 "  normal noise     %.3g deg RMS (%.3g from the neighbours' normals, %.3g from the chords), errors of "
+                 "nearby normals correlated %.2f, coupled to the positions %.2f; crease length in the normals %.2f "
+                 "per size\n",
+                 e.normal_noise_deg, e.normal_noise_neighbours_deg, e.normal_noise_chords_deg,
+                 e.normal_error_correlation, e.normal_position_coupling, e.normal_crease_length);
   }
   std::fprintf(stderr,
                "  shape            crease length %.2f per size (%.0f%% of the samples at an edge), sharpness %.3f, "

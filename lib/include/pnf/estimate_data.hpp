@@ -43,9 +43,15 @@ struct DataEstimate {
   // true normals by; the median, for Gaussian errors. Independent of the positions' fits, so it
   // is the errors' own size where they are independent from point to point (a scanner's, a
   // mesh's); errors shared by neighbours (PCA's) read low, and position noise several spacings
-  // wide makes it read 0. What --auto's Stein risk estimate takes as the input's noise
-  // (docs/auto.md). -1 without normals.
+  // wide makes it read 0. With the chords' below, what --auto's Stein risk estimate takes as
+  // the input's noise (docs/auto.md). -1 without normals.
   double normal_noise_neighbours_deg = -1;
+  // RMS angle in degrees of the input normals' errors read from the chords to each sample's 3
+  // nearest points: (p_j - p_i) . (n_i + n_j) / (2 |p_j - p_i|), in which the surface's curvature
+  // cancels, so that detail finer than 16 points, which the estimate above reads as noise, does
+  // not enter; position noise does (it reads high on noisy positions). Stein's estimate takes the
+  // smaller of the two as the input's noise (docs/auto.md). -1 without normals.
+  double normal_noise_chords_deg = -1;
   // The neighbourhood the fits used: number of nearest points, and the radius (model units)
   // of the fitted cylinder. The smallest of 64, 256, 1024, 4096 neighbours whose cylinder is
   // wide against the noise measured in it (kMaxNoiseToFitRadius in the source).

@@ -237,9 +237,11 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   }
   if (cloud.has_normals()) {
     // The smallest scale's neighbourhoods (searched first, always), nearest first.
-    estimate.normal_noise_neighbours_deg = detail::neighbour_normal_noise_deg(
-        centred, cloud, neighbourhoods_of(detail::samples_at_scale(count, smallest), smallest),
-        estimate.position_noise);
+    const detail::SampleNeighbourhoods& nearest =
+        neighbourhoods_of(detail::samples_at_scale(count, smallest), smallest);
+    estimate.normal_noise_neighbours_deg =
+        detail::neighbour_normal_noise_deg(centred, cloud, nearest, estimate.position_noise);
+    estimate.normal_noise_chords_deg = detail::chord_normal_noise_deg(centred, cloud, nearest);
     estimate.normal_noise_deg = medians(fits, &SampleFit::angle_deg) * kRayleighRmsPerMedian;
     const double turned_deg =
         std::max(kNormalCreasePerTypical * medians(fits, &SampleFit::local_angle_deg), kNormalCreaseFloorDeg);

@@ -39,14 +39,13 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
                   const ProgressCallback& progress, const detail::SurfaceJudge& judge, const std::vector<double>& input,
                   AutoRun& run) {
   const std::vector<FilterParams> candidates = detail::stein_candidates(run.choice);
-  const detail::SteinRisk risk(detail::stein_samples(cloud.positions), input,
-                               run.choice.estimate.normal_noise_neighbours_deg);
+  const detail::SteinRisk risk(detail::stein_samples(cloud.positions), input, detail::stein_noise_deg(run.choice));
   const std::vector<double> probed_input = risk.probed(input);
   std::vector<double> best = input;
   std::vector<Vec3> scratch(cloud.size());  // each run's output (the observers copy what they keep)
   double best_risk = risk.input_risk_deg();
   std::size_t best_candidate = 0;
-  std::string estimated = detail::stein_heading(risk.input_risk_deg());
+  std::string estimated = detail::stein_heading(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     params.iterations = detail::judged_pass_budget(params, run.choice);
@@ -236,6 +235,12 @@ bool detail::stein_decides(const AutoChoice& choice) {
   return independent_normal_errors(choice) && choice.estimate.normal_noise_neighbours_deg > 0;
 }
 
+double detail::stein_noise_deg(const AutoChoice& choice) {
+  const DataEstimate& e = choice.estimate;
+  return e.normal_noise_chords_deg >= 0 ? std::min(e.normal_noise_neighbours_deg, e.normal_noise_chords_deg)
+                                        : e.normal_noise_neighbours_deg;
+}
+
 bool detail::judge_chooses_scale(const AutoChoice& choice) {
   return judge_geometry(choice.estimate).quarter_allowed && !stein_decides(choice);
 }
@@ -245,9 +250,11 @@ std::string detail::stein_judged(double input_rms_deg, double kept_rms_deg) {
          (kept_rms_deg > 0 ? ", the pass of lowest estimate " + number(kept_rms_deg) + " deg" : std::string());
 }
 
-std::string detail::stein_heading(double noise_deg) {
-  return "; Stein's risk estimate (the input normals' noise " + number(noise_deg) +
-         " deg, from their neighbours' normals), RMS deg by pass:";
+std::string detail::stein_heading(const AutoChoice& choice) {
+  const double noise = stein_noise_deg(choice);
+  const bool chords = noise < choice.estimate.normal_noise_neighbours_deg;
+  return "; Stein's risk estimate (the input normals' noise " + number(noise) + " deg, from " +
+         (chords ? "the chords to their nearest points" : "their neighbours' normals") + "), RMS deg by pass:";
 }
 
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,

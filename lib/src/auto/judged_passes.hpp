@@ -196,6 +196,10 @@ std::string held_out_heading(std::size_t samples, double input_deg);
 // of its diagonal, 10-degree tilts: its own error 5.0 deg, its true one about 12; the input kept,
 // where one pass takes 9.85 deg to 5.9), while Stein's estimate shares no error with the filter.
 bool stein_decides(const AutoChoice& choice);
+// The input's noise (degrees, RMS) Stein's estimate takes: the smaller of the neighbours' and the
+// chords' (DataEstimate). Each reads high by its own cause (detail finer than 16 points; position
+// noise), neither low for independent errors, and a noise read low only keeps more of the input.
+double stein_noise_deg(const AutoChoice& choice);
 
 // What the judge measures of the input before any pass, as `choice` needs it: its scale
 // (choose_scale) where it chooses one, else whether the input normals are plane fits where the
@@ -223,6 +227,6 @@ std::string judged_fallback(const Fallback& fallback, const std::vector<double>&
 // the input and of the pass of lowest estimate (0: none), which must not score above the input;
 // then the estimate's noise, each setting's estimates by pass (judged_candidate) and the outcome.
 std::string stein_judged(double input_rms_deg, double kept_rms_deg);
-std::string stein_heading(double noise_deg);
+std::string stein_heading(const AutoChoice& choice);
 
 }  // namespace pnf::detail

@@ -88,4 +88,42 @@ double neighbour_normal_noise_deg(const std::vector<double>& centred, const Clou
   return std::sqrt(variance) * 180 / geometry::kPi;
 }
 
+double chord_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
+                              const SampleNeighbourhoods& nearest) {
+  if (!cloud.has_normals() || nearest.neighbours <= kChordNeighbours) return -1;
+  std::vector<double> chords;
+  chords.reserve(nearest.samples() * kChordNeighbours);
+  auto unit_normal = [&](std::size_t i, Vec3& n) {
+    n = cloud.normals.at(i);
+    const double length = geometry::norm(n);
+    if (!(length > 0) || !std::isfinite(length)) return false;
+    n = geometry::normalized(n);
+    return true;
+  };
+  for (std::size_t s = 0; s < nearest.samples(); ++s) {
+    const std::size_t* ids = nearest.ids_of(s);
+    const std::size_t self = ids[0];
+    Vec3 own;
+    if (!unit_normal(self, own)) continue;
+    for (int k = 1; k <= kChordNeighbours; ++k) {
+      const std::size_t j = ids[k];
+      Vec3 n;
+      if (!unit_normal(j, n)) continue;
+      const double sign = geometry::dot(n, own) < 0 ? -1.0 : 1.0;
+      const Vec3 d = {centred[3 * j] - centred[3 * self], centred[3 * j + 1] - centred[3 * self + 1],
+                      centred[3 * j + 2] - centred[3 * self + 2]};
+      const double length = geometry::norm(d);
+      if (!(length > 0)) continue;  // a duplicate point has no chord
+      const Vec3 sum = {own[0] + sign * n[0], own[1] + sign * n[1], own[2] + sign * n[2]};
+      chords.push_back(std::abs(geometry::dot(d, sum)) / (2 * length));
+    }
+  }
+  if (chords.empty()) return -1;
+  auto middle = chords.begin() + std::ptrdiff_t(chords.size() / 2);
+  std::nth_element(chords.begin(), middle, chords.end());
+  constexpr double kGaussianMedianAbsolute = 0.6745;  // the median of |x| over x's SD, x Gaussian
+  const double spread = *middle / kGaussianMedianAbsolute;
+  return 2 * spread * 180 / geometry::kPi;
+}
+
 }  // namespace pnf::detail

@@ -29,4 +29,22 @@ double neighbour_normal_noise_deg(const std::vector<double>& centred, const Clou
 // The points of each sample's fit, the sample included.
 constexpr int kNoiseNeighbours = 16;
 
+// The RMS angle (degrees) of the input normals' errors read from chords: for each sample i and
+// each of its kChordNeighbours nearest points j, c = (p_j - p_i) . (n_i + n_j) / (2 |p_j - p_i|),
+// n_j turned to agree with n_i. A chord meets the two true tangent planes at equal and opposite
+// angles, so the surface's curvature cancels to third order in |p_j - p_i|: detail finer than
+// the 16 points of neighbour_normal_noise_deg, which that estimate reads as noise (the crank's
+// exact normals at 10k points: 21 deg), does not enter. Independent errors of RMS t give c a
+// spread of t / 2; twice the median |c| over its Gaussian value (0.6745 SD). Position noise
+// enters as the spread of the two points' offsets along the normal over the chord (about
+// sqrt(2) sigma / |p_j - p_i|), chords across a crease or between two sheets as outliers the
+// median leaves out: it reads high, never low, for independent errors; errors shared by
+// neighbours (PCA's) enter whole. -1 without normals or without a chord.
+double chord_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
+                              const SampleNeighbourhoods& nearest);
+
+// The chords of each sample that chord_normal_noise_deg reads: to its nearest points, where the
+// curvature cancels best.
+constexpr int kChordNeighbours = 3;
+
 }  // namespace pnf::detail

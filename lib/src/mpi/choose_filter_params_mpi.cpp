@@ -1,5 +1,6 @@
 // pnf::mpi::choose_filter_params: --auto across the ranks (pnf/mpi.hpp), as one process chooses.
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -55,33 +56,34 @@ std::vector<double> rows_of(const Vec3ArrayView& view) {
 void broadcast(MPI_Comm comm, AutoChoice& c) {
   DataEstimate& e = c.estimate;
   FilterParams& p = c.params;
-  double f[26] = {double(e.points),
-                  double(e.samples),
-                  e.mean_radius,
-                  double(int(e.radius_source)),
-                  e.area_spacing,
-                  e.position_noise,
-                  e.normal_noise_deg,
-                  double(e.fit_neighbours),
-                  e.fit_radius,
-                  e.feature_share,
-                  e.crease_length,
-                  double(e.edge_samples),
-                  double(e.feature_samples),
-                  e.curved_share,
-                  e.normal_error_correlation,
-                  e.normal_position_coupling,
-                  e.crease_sharpness,
-                  e.normal_crease_length,
-                  p.sigma_f,
-                  p.sigma_g,
-                  double(p.iterations),
-                  p.stop_change_deg,
-                  double(int(p.units)),
-                  p.mean_radius,
-                  double(c.rule.size()),
-                  e.normal_noise_neighbours_deg};
-  detail::check_mpi(MPI_Bcast(f, 26, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+  double f[] = {double(e.points),
+                double(e.samples),
+                e.mean_radius,
+                double(int(e.radius_source)),
+                e.area_spacing,
+                e.position_noise,
+                e.normal_noise_deg,
+                double(e.fit_neighbours),
+                e.fit_radius,
+                e.feature_share,
+                e.crease_length,
+                double(e.edge_samples),
+                double(e.feature_samples),
+                e.curved_share,
+                e.normal_error_correlation,
+                e.normal_position_coupling,
+                e.crease_sharpness,
+                e.normal_crease_length,
+                p.sigma_f,
+                p.sigma_g,
+                double(p.iterations),
+                p.stop_change_deg,
+                double(int(p.units)),
+                p.mean_radius,
+                double(c.rule.size()),
+                e.normal_noise_neighbours_deg,
+                e.normal_noise_chords_deg};
+  detail::check_mpi(MPI_Bcast(f, int(std::size(f)), MPI_DOUBLE, 0, comm), "MPI_Bcast");
   e.points = std::size_t(f[0]);
   e.samples = std::size_t(f[1]);
   e.mean_radius = f[2];
@@ -108,6 +110,7 @@ void broadcast(MPI_Comm comm, AutoChoice& c) {
   p.mean_radius = f[23];
   c.rule.resize(std::size_t(f[24]));
   e.normal_noise_neighbours_deg = f[25];
+  e.normal_noise_chords_deg = f[26];
   detail::check_mpi(MPI_Bcast(c.rule.data(), int(c.rule.size()), MPI_CHAR, 0, comm), "MPI_Bcast");
 }
 
@@ -157,7 +160,7 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
       }
       if (pnf::detail::stein_decides(choice)) {
         root->stein = pnf::detail::SteinRisk(pnf::detail::stein_samples(whole.positions), root->input_normals,
-                                             choice.estimate.normal_noise_neighbours_deg);
+                                             pnf::detail::stein_noise_deg(choice));
       }
     }
   });

@@ -58,7 +58,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::vector<FilterParams> candidates = pnf::detail::stein_candidates(run.choice);
-  const double noise = run.choice.estimate.normal_noise_neighbours_deg;  // rank 0's SteinRisk has it too
+  const double noise = pnf::detail::stein_noise_deg(run.choice);  // rank 0's SteinRisk has it too
   const std::vector<double> probed_input = probed_rows(comm, root, local);
   const std::vector<double> unit = pnf::detail::unit_rows(local.normals);
   std::vector<Vec3> input(local.size()), trial(local.size());
@@ -66,7 +66,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   std::vector<Vec3> best = input;
   double best_risk = noise;
   std::size_t best_candidate = 0;
-  std::string estimated = pnf::detail::stein_heading(noise);
+  std::string estimated = pnf::detail::stein_heading(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
