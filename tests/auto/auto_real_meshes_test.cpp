@@ -73,6 +73,14 @@ std::optional<AutoOutcome> auto_on_clean_exact(const std::string& name, std::uin
   return o;
 }
 
+// `o`'s output no worse than its input, in RMS and mean: kept input normals come back unit
+// length, so their rounding is allowed.
+void expect_no_worse(const AutoOutcome& o) {
+  SCOPED_TRACE(o.run.choice.rule + "; " + o.run.choice.judged);
+  EXPECT_LE(o.output.rms_deg, o.input.rms_deg + 1e-6);
+  EXPECT_LE(o.output.mean_deg, o.input.mean_deg + 1e-6);
+}
+
 // The crank (a CAD part with thin webs and small holes), 100k samples, position noise 0.25% of
 // the diagonal per axis (about half a spacing), the true normals tilted by 10 degrees RMS: the
 // judge's fits of 257 points smoothed its detail as the filter did and agreed with every pass,
@@ -102,12 +110,8 @@ TEST(AutoOnRealMeshes, NoisyCrankWithTiltedNormalsIsNoWorse) {
 TEST(AutoOnRealMeshes, SparseCupWithExactNormalsIsNoWorse) {
   const std::optional<AutoOutcome> outcome = auto_on_clean_exact("cup", 61, 10000);
   if (!outcome) GTEST_SKIP() << absent("cup");
-  const AutoOutcome& o = *outcome;
-  SCOPED_TRACE(o.run.choice.rule + "; " + o.run.choice.judged);
-  EXPECT_LT(o.run.choice.estimate.position_noise, 0.5 * o.run.choice.estimate.area_spacing);
-  // Kept input normals come back unit length: their rounding only.
-  EXPECT_LE(o.output.rms_deg, o.input.rms_deg + 1e-6);
-  EXPECT_LE(o.output.mean_deg, o.input.mean_deg + 1e-6);
+  EXPECT_LT(outcome->run.choice.estimate.position_noise, 0.5 * outcome->run.choice.estimate.area_spacing);
+  expect_no_worse(*outcome);
 }
 
 // The crank sampled at 10k points, clean positions, its exact normals: its thin webs and small
@@ -118,10 +122,23 @@ TEST(AutoOnRealMeshes, SparseCupWithExactNormalsIsNoWorse) {
 TEST(AutoOnRealMeshes, SparseCrankWithExactNormalsIsNoWorse) {
   const std::optional<AutoOutcome> outcome = auto_on_clean_exact("crank", 62, 10000);
   if (!outcome) GTEST_SKIP() << absent("crank");
-  const AutoOutcome& o = *outcome;
-  SCOPED_TRACE(o.run.choice.rule + "; " + o.run.choice.judged);
-  EXPECT_LE(o.output.rms_deg, o.input.rms_deg + 1e-6);
-  EXPECT_LE(o.output.mean_deg, o.input.mean_deg + 1e-6);
+  expect_no_worse(*outcome);
+}
+
+// The crank, 100k samples, position noise 0.25% of the diagonal per axis, its exact normals: the
+// judge read them 17.4 deg from its fits with its own error at 2.4 deg and kept 8 passes
+// (pnf_eval_real's seeds: 0 deg in, 19.1 out); their own noise reads 0.7 deg, under the judge's
+// error, so no pass can be judged and the input is kept.
+TEST(AutoOnRealMeshes, NoisyCrankWithExactNormalsIsNoWorse) {
+  const std::optional<eval::MeshSamples> samples = sampled_mesh("crank", 24);
+  if (!samples) GTEST_SKIP() << absent("crank");
+  PointCloud cloud;
+  cloud.positions = samples->shape.positions;
+  eval::add_noise(cloud.positions, 0.0025, 25);
+  cloud.normals = samples->shape.normals;
+  const AutoOutcome o = auto_outcome(cloud, samples->shape.normals);
+  ASSERT_LT(o.input.rms_deg, 1e-6) << "the exact normals are the truth";
+  expect_no_worse(o);
 }
 
 // The camel (an organic shape with fine, smooth detail), 100k clean samples, PCA normals over 64

@@ -7,7 +7,8 @@
 # independent_errors_test: the gate that adds the independent-errors setting to the judged passes;
 # judged_pass_budget_test: the settings the judge tries and the passes it may run; noisy_fallback_test: the one wide pass
 # tried on noisy positions where the judged settings keep the input; judge_arithmetic_test: the judge's vector exp and sums; stein_risk_test: Stein's risk estimate,
-# the noise it takes and the passes it keeps; held_out_planes_test: the held-out check's score; sample_neighbourhoods_test: the samples'
+# the noise it takes and the passes it keeps; unseen_gains_test: the input kept where the judge cannot see a pass's
+# gain on noisy positions; held_out_planes_test: the held-out check's score; sample_neighbourhoods_test: the samples'
 # searches the estimate and the judge share; auto_real_meshes_test: --auto on the
 # team's meshes where it once did harm or where a judged setting gains;
 # real_meshes_test, mesh_reader_test: the true normals of pnf_eval_real's meshes and point sets,
@@ -24,6 +25,7 @@ list(APPEND PNF_TEST_SOURCES
   ${PROJECT_SOURCE_DIR}/tests/auto/noisy_fallback_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/judge_arithmetic_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/stein_risk_test.cpp
+  ${PROJECT_SOURCE_DIR}/tests/auto/unseen_gains_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/held_out_planes_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/sample_neighbourhoods_test.cpp
   ${PROJECT_SOURCE_DIR}/tests/auto/real_meshes_test.cpp

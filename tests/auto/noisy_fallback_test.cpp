@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -71,25 +70,6 @@ TEST(NoisyFallback, KeepsItsPassWhereTheJudgeVouchesForIt) {
   EXPECT_EQ(run.choice.params.iterations, 1);
   EXPECT_LT(angle_from_plain_run(filter, h.cloud, run, out), 1e-9) << "the kept normals are not the fallback's own run";
   EXPECT_LT(rms_line_angle(out, h.truth), 0.9 * rms_line_angle(h.cloud.normals, h.truth));
-}
-
-// Over PCA-64 normals of the same house the fallback's pass does not beat its bar; nudged by a
-// hundredth of a degree, the normals are no plane fits, the held-out check does not run and the
-// input normals come back (made unit).
-TEST(NoisyFallback, ReturnsTheInputWhereItsPassMissesTheBar) {
-  NoisyHouse h = noisy_house(64);
-  std::mt19937 rng(5);
-  for (Vec3& n : h.cloud.normals) n = jitter_normal(n, 0.01, rng);
-  std::vector<Vec3> out(h.cloud.size());
-  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), fastest_filter());
-  const std::string& judged = run.choice.judged;
-  ASSERT_NE(judged.find("; fallback sigma_f 4"), std::string::npos) << judged;
-  EXPECT_EQ(judged.find("held-out check"), std::string::npos) << judged;
-  EXPECT_NE(judged.find(": the input normals kept"), std::string::npos) << judged;
-  EXPECT_EQ(run.passes_kept, 0);
-  double most = 0;
-  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], h.cloud.normals[i]));
-  EXPECT_LT(most, 1e-6);
 }
 
 // On two spacings of noise with PCA-16 normals (plane fits), where the judge and the fallback keep

@@ -438,6 +438,20 @@ TEST(MpiAuto, JudgesTheNarrowPassAsOneProcess) {
                                     "; the input normals are plane fits of 16 points: narrow pass");
 }
 
+// The noisy house with its exact normals, whose own noise is under the judge's own error: no pass
+// can be judged (judged_passes.hpp, judge_cannot_see_gains), on every rank from rank 0's judge.
+TEST(MpiAuto, KeepsNormalsNoPassCanBeJudgedOnAsOneProcess) {
+  ScanNoise noise;
+  noise.position = 0.5;
+  SyntheticCloud house = make_scanned_house(6000, noise);
+  house.cloud.normals = house.true_normals;
+  NormalFilter filter(reference_options());
+  std::vector<Vec3> expected(house.cloud.size());
+  const AutoRun one = improve_normals_auto(CloudView(house.cloud), MutableVec3ArrayView(expected), filter);
+  ASSERT_NE(one.choice.judged.find("no pass could be judged"), std::string::npos) << one.choice.judged;
+  expect_auto_as_one_process(house.cloud, one, expected);
+}
+
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
 // process's estimate_data message) rather than a bare "too few points", also when the failing
 // slices are not rank 0's.

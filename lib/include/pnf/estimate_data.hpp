@@ -42,9 +42,9 @@ struct DataEstimate {
   // position along the surface, the residuals' variance less what the position noise moves the
   // true normals by; the median, for Gaussian errors. Independent of the positions' fits, so it
   // is the errors' own size where they are independent from point to point (a scanner's, a
-  // mesh's); errors shared by neighbours (PCA's) read low, and position noise several spacings
-  // wide makes it read 0. With the chords' below, what --auto's Stein risk estimate takes as
-  // the input's noise (docs/auto.md). -1 without normals.
+  // mesh's); errors shared by neighbours (PCA's) read low. With the chords' below, what
+  // --auto's Stein risk estimate takes as the input's noise (docs/auto.md). -1 without normals,
+  // or where position noise several spacings wide leaves under half the samples a fit.
   double normal_noise_neighbours_deg = -1;
   // RMS angle in degrees of the input normals' errors read from the chords to each sample's 3
   // nearest points: (p_j - p_i) . (n_i + n_j) / (2 |p_j - p_i|), in which the surface's curvature

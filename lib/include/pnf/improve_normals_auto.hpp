@@ -35,9 +35,12 @@ struct AutoRun {
 // of wide averaging is judged too, against the input's score less the judge's own error in
 // quadrature (docs/auto.md, "The judged fallback on noisy positions"); on clean positions a
 // narrow, gentler setting (sigma_f 2, sigma_g 0.5 mean radii) is judged beside the rule's
-// (docs/auto.md, "The judge's second setting on clean positions"). Writes N unit normals
-// into normals_out (N rows; it may be the cloud's own normals view). A stop_change_deg >= 0
-// replaces the rule's stop rule (0: off). Throws as choose_filter_params and NormalFilter::run do.
+// (docs/auto.md, "The judge's second setting on clean positions"). On noisy positions, input
+// normals that are no plane fits of their neighbours and whose own noise is under the judge's
+// own error are kept without a pass (docs/auto.md, "Exact normals on noisy positions"). Writes
+// N unit normals into normals_out (N rows; it may be the cloud's own normals view). A
+// stop_change_deg >= 0 replaces the rule's stop rule (0: off). Throws as choose_filter_params
+// and NormalFilter::run do.
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,
                              const ProgressCallback& progress = {}, double stop_change_deg = -1);
 

@@ -231,6 +231,19 @@ void detail::prepare_judge(SurfaceJudge& judge, const AutoChoice& choice, const 
   }
 }
 
+bool detail::judge_cannot_see_gains(const AutoChoice& choice, int plane_fits, double own_error_deg) {
+  const double noise = choice.estimate.normal_noise_neighbours_deg;
+  return tries_fallback(choice) && !stein_decides(choice) && plane_fits == 0 && noise >= 0 && noise < own_error_deg;
+}
+
+std::string detail::unseen_gains_judged(const AutoChoice& choice, double input_rms_deg, double own_error_deg) {
+  return "judged against the surface fitted to the positions: the input " + number(input_rms_deg) +
+         " deg, the judge's own error " + number(own_error_deg) + " deg, above the input normals' own noise (" +
+         number(choice.estimate.normal_noise_neighbours_deg) +
+         " deg, from their neighbours' normals), and they are no plane fits: no pass could be judged" +
+         judged_outcome(0, 0);
+}
+
 bool detail::stein_decides(const AutoChoice& choice) {
   return independent_normal_errors(choice) && choice.estimate.normal_noise_neighbours_deg > 0;
 }
@@ -303,6 +316,13 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const detail::SurfaceJudge::Sums input_sums = judge.input_sums(input.data());
   const double input_rms = input_sums.rms_deg();
   const double own_error = input_sums.own_error_deg();
+  if (detail::judge_cannot_see_gains(run.choice, judge.plane_fits(), own_error)) {
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+      normals_out.set(i, {input[3 * i], input[3 * i + 1], input[3 * i + 2]});
+    run.choice.judged = detail::unseen_gains_judged(run.choice, input_rms, own_error);
+    run.choice.params.iterations = 0;
+    return run;
+  }
   std::size_t best_candidate = 0;
   // The held-out check (judged_passes.hpp), where it may run: its planes and the best pass it
   // has seen, kept apart from the judge's until the judge's settings and fallback keep the input.

@@ -201,6 +201,22 @@ bool stein_decides(const AutoChoice& choice);
 // noise), neither low for independent errors, and a noise read low only keeps more of the input.
 double stein_noise_deg(const AutoChoice& choice);
 
+// Whether the judge cannot see what a pass could gain, and the input is kept without a pass: on
+// noisy positions where the judge decides (tries_fallback, not Stein's estimate), for input normals
+// that are no count's plane fits (`plane_fits` 0: exact normals, a mesh's, a scanner's) whose own
+// noise as their neighbours' normals measure it (DataEstimate::normal_noise_neighbours_deg) is
+// below the judge's own error (`own_error_deg`, SurfaceJudge::own_error_deg). Averaging takes out
+// of independent errors at most their noise, and a pass is kept only where the judge scores it more
+// than its own error under the input (rms_to_beat): so where the noise is under that error, a pass
+// it keeps gains by the judge's error, which on noisy positions misses detail (the crank at 0.25%
+// of its diagonal, exact normals: judged 17.4 deg off with its own error read at 2.4 and the
+// noise at 0.69; 8 passes kept, 0 -> 19.1 deg). Errors shared by neighbours read low too, so
+// smooth normals that are no plane fits come back as they went in; plane fits (PCA) are judged
+// as before. docs/auto.md, "Exact normals on noisy positions".
+bool judge_cannot_see_gains(const AutoChoice& choice, int plane_fits, double own_error_deg);
+// AutoChoice::judged where judge_cannot_see_gains keeps the input.
+std::string unseen_gains_judged(const AutoChoice& choice, double input_rms_deg, double own_error_deg);
+
 // What the judge measures of the input before any pass, as `choice` needs it: its scale
 // (choose_scale) where it chooses one, else whether the input normals are plane fits where the
 // held-out check may need it (the positions are noisy); `input`: N by 3, unit.

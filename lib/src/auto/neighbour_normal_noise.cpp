@@ -78,9 +78,10 @@ double neighbour_normal_noise_deg(const std::vector<double>& centred, const Clou
     variances[std::size_t(s)] =
         sample_variance(centred, cloud, nearest.ids_of(std::size_t(s)), kNoiseNeighbours, position_noise);
   }
+  const std::size_t all = variances.size();
   variances.erase(std::remove_if(variances.begin(), variances.end(), [](double v) { return std::isnan(v); }),
                   variances.end());
-  if (variances.empty()) return -1;
+  if (variances.empty() || 2 * variances.size() < all) return -1;
   auto middle = variances.begin() + std::ptrdiff_t(variances.size() / 2);
   std::nth_element(variances.begin(), middle, variances.end());
   const double dof = 2.0 * (kNoiseNeighbours - kFieldCoefficients);

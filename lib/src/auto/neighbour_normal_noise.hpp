@@ -19,10 +19,11 @@ struct SampleNeighbourhoods;
 // normal of where it came from: the fitted gradient times the noise, taken out, and what that
 // takes out of the noise itself through the gradient's own noise divided back; samples where
 // that leaves under half are left out). The median over the samples, for a Gaussian. Errors
-// correlated between neighbours (PCA's) read low; where the position noise is several spacings
-// wide nearly every sample is left out and the rest read the surface's variation as no noise
-// (0). -1 without normals or without a sample that could be fitted. `nearest`: each sample's nearest points,
-// nearest first (more than kNoiseNeighbours); `position_noise`: per axis, model units.
+// correlated between neighbours (PCA's) read low. -1 without normals, or where under half the
+// samples could be fitted (position noise wide against the neighbourhoods: the samples left are
+// those the noise happens to leave narrow, and read the surface's variation as no noise).
+// `nearest`: each sample's nearest points, nearest first (more than kNoiseNeighbours);
+// `position_noise`: per axis, model units.
 double neighbour_normal_noise_deg(const std::vector<double>& centred, const CloudView& cloud,
                                   const SampleNeighbourhoods& nearest, double position_noise);
 

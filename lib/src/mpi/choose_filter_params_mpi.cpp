@@ -170,6 +170,19 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
     detail::check_mpi(MPI_Bcast(known, 2, MPI_INT, 0, comm), "MPI_Bcast");
     root->empty = known[0] != 0;
     root->plane_fits = known[1];
+    // What judge_cannot_see_gains weighs before any pass, where it may apply.
+    if (!root->empty && pnf::detail::tries_fallback(choice) && !pnf::detail::stein_decides(choice) &&
+        root->plane_fits == 0) {
+      double input[2] = {0, 0};
+      if (rank == 0) {
+        const pnf::detail::SurfaceJudge::Sums sums = root->judge.input_sums(root->input_normals.data());
+        input[0] = sums.rms_deg();
+        input[1] = sums.own_error_deg();
+      }
+      detail::check_mpi(MPI_Bcast(input, 2, MPI_DOUBLE, 0, comm), "MPI_Bcast");
+      root->input_rms_deg = input[0];
+      root->own_error_deg = input[1];
+    }
   }
   return choice;
 }

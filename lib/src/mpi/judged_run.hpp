@@ -26,6 +26,10 @@ struct RootJudge {
   pnf::detail::HeldOutPlanes held_out;  // where the held-out check may run (pnf::detail::tries_held_out)
   bool empty = true;
   int plane_fits = 0;  // SurfaceJudge::plane_fits, known on every rank
+  // The judge's RMS of the input and its own error, known on every rank where the judge decides on
+  // noisy positions without plane fits (pnf::detail::judge_cannot_see_gains needs them before any
+  // pass); 0 elsewhere.
+  double input_rms_deg = 0, own_error_deg = 0;
 };
 
 // What the judged run needs and what it tells: the same on every rank.
