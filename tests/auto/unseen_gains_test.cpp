@@ -69,7 +69,7 @@ TEST(UnseenGains, SmoothNormalsThatAreNoPlaneFitsAreKept) {
 }
 
 // The test itself: on noisy positions only, for normals that are no plane fits, whose own noise
-// was measured and is under the judge's own error.
+// (the lower of the two readings) was measured and is under the judge's own error.
 TEST(UnseenGains, OnlyOnNoisyPositionsForMeasuredNoiseUnderTheJudgesErrorWithoutPlaneFits) {
   AutoChoice noisy = choose_filter_params(estimate_data(house_with_exact_normals(0.5).cloud));
   ASSERT_TRUE(detail::tries_fallback(noisy));
@@ -78,7 +78,10 @@ TEST(UnseenGains, OnlyOnNoisyPositionsForMeasuredNoiseUnderTheJudgesErrorWithout
   EXPECT_TRUE(detail::judge_cannot_see_gains(noisy, 0, 2.0));
   EXPECT_FALSE(detail::judge_cannot_see_gains(noisy, 0, 0.5));   // the noise above the judge's error
   EXPECT_FALSE(detail::judge_cannot_see_gains(noisy, 16, 2.0));  // PCA normals over 16 points
-  noisy.estimate.normal_noise_neighbours_deg = -1;               // not measured
+  noisy.estimate.normal_noise_neighbours_deg = 3.0;
+  noisy.estimate.normal_noise_chords_deg = 1.0;  // the lower reading is the noise (stein_noise_deg)
+  EXPECT_TRUE(detail::judge_cannot_see_gains(noisy, 0, 2.0));
+  noisy.estimate.normal_noise_neighbours_deg = -1;  // not measured
   EXPECT_FALSE(detail::judge_cannot_see_gains(noisy, 0, 2.0));
   AutoChoice clean = choose_filter_params(estimate_data(house_with_exact_normals(0).cloud));
   ASSERT_FALSE(detail::tries_fallback(clean));

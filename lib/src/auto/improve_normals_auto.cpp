@@ -24,6 +24,13 @@ std::string number(double value) {
   return text;
 }
 
+// The input normals' own noise (stein_noise_deg) and which reading it is.
+std::string own_noise_text(const AutoChoice& choice) {
+  const double noise = detail::stein_noise_deg(choice);
+  const bool chords = noise < choice.estimate.normal_noise_neighbours_deg;
+  return number(noise) + " deg, from " + (chords ? "the chords to their nearest points" : "their neighbours' normals");
+}
+
 // The same filter setting, whatever its passes.
 bool is_setting(const FilterParams& a, const FilterParams& b) {
   return a.sigma_f == b.sigma_f && a.sigma_g == b.sigma_g && a.units == b.units;
@@ -232,16 +239,14 @@ void detail::prepare_judge(SurfaceJudge& judge, const AutoChoice& choice, const 
 }
 
 bool detail::judge_cannot_see_gains(const AutoChoice& choice, int plane_fits, double own_error_deg) {
-  const double noise = choice.estimate.normal_noise_neighbours_deg;
+  const double noise = stein_noise_deg(choice);
   return tries_fallback(choice) && !stein_decides(choice) && plane_fits == 0 && noise >= 0 && noise < own_error_deg;
 }
 
 std::string detail::unseen_gains_judged(const AutoChoice& choice, double input_rms_deg, double own_error_deg) {
   return "judged against the surface fitted to the positions: the input " + number(input_rms_deg) +
          " deg, the judge's own error " + number(own_error_deg) + " deg, above the input normals' own noise (" +
-         number(choice.estimate.normal_noise_neighbours_deg) +
-         " deg, from their neighbours' normals), and they are no plane fits: no pass could be judged" +
-         judged_outcome(0, 0);
+         own_noise_text(choice) + "), and they are no plane fits: no pass could be judged" + judged_outcome(0, 0);
 }
 
 bool detail::stein_decides(const AutoChoice& choice) {
@@ -264,10 +269,7 @@ std::string detail::stein_judged(double input_rms_deg, double kept_rms_deg) {
 }
 
 std::string detail::stein_heading(const AutoChoice& choice) {
-  const double noise = stein_noise_deg(choice);
-  const bool chords = noise < choice.estimate.normal_noise_neighbours_deg;
-  return "; Stein's risk estimate (the input normals' noise " + number(noise) + " deg, from " +
-         (chords ? "the chords to their nearest points" : "their neighbours' normals") + "), RMS deg by pass:";
+  return "; Stein's risk estimate (the input normals' noise " + own_noise_text(choice) + "), RMS deg by pass:";
 }
 
 AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normals_out, NormalFilter& filter,

@@ -204,7 +204,7 @@ double stein_noise_deg(const AutoChoice& choice);
 // Whether the judge cannot see what a pass could gain, and the input is kept without a pass: on
 // noisy positions where the judge decides (tries_fallback, not Stein's estimate), for input normals
 // that are no count's plane fits (`plane_fits` 0: exact normals, a mesh's, a scanner's) whose own
-// noise as their neighbours' normals measure it (DataEstimate::normal_noise_neighbours_deg) is
+// noise (stein_noise_deg: their neighbours' normals' reading, or the chords' where lower) is
 // below the judge's own error (`own_error_deg`, SurfaceJudge::own_error_deg). Averaging takes out
 // of independent errors at most their noise, and a pass is kept only where the judge scores it more
 // than its own error under the input (rms_to_beat): so where the noise is under that error, a pass
