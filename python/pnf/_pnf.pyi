@@ -38,7 +38,11 @@ class DataEstimate:
     def normal_noise_deg(self) -> float:
         """RMS angle of the input normals to fitted quadrics; -1 without normals."""
     @property
-    def normal_noise_neighbours_deg(self) -> float: ...
+    def normal_noise_neighbours_deg(self) -> float:
+        """The input normals' own noise from their 16 nearest points' normals; -1 without normals."""
+    @property
+    def normal_noise_chords_deg(self) -> float:
+        """The same from the chords to the 3 nearest points (detail does not enter; position noise does)."""
     @property
     def fit_neighbours(self) -> int: ...
     @property
