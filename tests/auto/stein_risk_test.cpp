@@ -158,6 +158,10 @@ TEST(ChordNormalNoise, ReadsIndependentErrorsAndNotFineDetail) {
   const double noise = rms_deg(c.normals, sphere_truth());
   // A median of about 12000 chords, as NeighbourNormalNoise allows (it read 10.24 for 10.38).
   EXPECT_NEAR(estimate_data(c).normal_noise_chords_deg, noise, 0.04 * noise);
+  // Points without a normal (zero or NaN) give no chord; the rest read the same noise.
+  PointCloud holes = c;
+  for (std::size_t i = 0; i < holes.size(); i += 10) holes.normals[i] = i % 20 ? Vec3{0, 0, 0} : Vec3{NAN, 0, 0};
+  EXPECT_NEAR(estimate_data(holes).normal_noise_chords_deg, noise, 0.04 * noise);
   // A sphere's chords meet its exact normals at exactly equal angles: rounding only.
   EXPECT_LT(estimate_data(sphere(20000, 1.0, 11)).normal_noise_chords_deg, 1e-6);
   // Bumps 8 spacings wide: a chord of about 0.6 spacings leaves the third-order term, about

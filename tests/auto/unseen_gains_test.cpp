@@ -46,6 +46,10 @@ void expect_kept_without_a_pass(const PointCloud& cloud) {
   EXPECT_NE(run.choice.judged.find("no pass could be judged"), std::string::npos);
   EXPECT_EQ(run.passes_kept, 0);
   EXPECT_EQ(run.choice.params.iterations, 0);
+  // The summary is the rule's setting's, as where the rule chooses no pass: the radius and sigmas.
+  EXPECT_EQ(run.summary.points, cloud.size());
+  EXPECT_GT(run.summary.sigma_f, 0);
+  EXPECT_EQ(run.summary.passes_run, 0);
   double most = 0;
   for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], cloud.normals[i]));
   EXPECT_LT(most, 1e-6);  // kept normals come back unit length: rounding only

@@ -62,10 +62,14 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
     std::fprintf(stderr, " s\n");
   }
   if (passes_kept >= 0) {
-    std::fprintf(stderr, "  judged       %d of %d passes kept (%s); mean change per pass:", passes_kept, s.passes_run,
+    std::fprintf(stderr, "  judged       %d of %d passes kept (%s)", passes_kept, s.passes_run,
                  passes_kept == 0 ? "the input normals returned" : "judged the best, above");
-    for (double d : s.mean_change_deg) std::fprintf(stderr, " %.3g", d);
-    std::fprintf(stderr, " deg\n");
+    if (!s.mean_change_deg.empty()) {
+      std::fprintf(stderr, "; mean change per pass:");
+      for (double d : s.mean_change_deg) std::fprintf(stderr, " %.3g", d);
+      std::fprintf(stderr, " deg");
+    }
+    std::fprintf(stderr, "\n");
   } else if (params.stop_change_deg > 0) {
     std::fprintf(stderr,
                  "  stop rule    %d of at most %d passes run (%s below %g deg); mean change per pass:", s.passes_run,

@@ -319,10 +319,11 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const double input_rms = input_sums.rms_deg();
   const double own_error = input_sums.own_error_deg();
   if (detail::judge_cannot_see_gains(run.choice, judge.plane_fits(), own_error)) {
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-      normals_out.set(i, {input[3 * i], input[3 * i + 1], input[3 * i + 2]});
-    run.choice.judged = detail::unseen_gains_judged(run.choice, input_rms, own_error);
+    // No pass: the input normals made unit, with the summary (radius, sigmas, lists) a run of the
+    // rule's setting reports, as where the rule chooses no pass.
     run.choice.params.iterations = 0;
+    run.summary = filter.run(cloud, normals_out, run.choice.params, progress);
+    run.choice.judged = detail::unseen_gains_judged(run.choice, input_rms, own_error);
     return run;
   }
   std::size_t best_candidate = 0;

@@ -25,14 +25,27 @@ constexpr double kMinNoiseLeft = 0.5;
 // (Wilson-Hilferty; within 0.1% from k = 10).
 double chi_square_median_per_mean(double k) { return std::pow(1 - 2 / (9 * k), 3); }
 
+// Point i's input normal made unit; false where it has none (zero, NaN or infinite).
+bool unit_normal(const CloudView& cloud, std::size_t i, Vec3& n) {
+  n = cloud.normals.at(i);
+  const double length = geometry::norm(n);
+  if (!(length > 0) || !std::isfinite(length)) return false;
+  n = geometry::normalized(n);
+  return true;
+}
+
+// p_j - p_i in the centred positions.
+Vec3 offset(const std::vector<double>& centred, std::size_t i, std::size_t j) {
+  return {centred[3 * j] - centred[3 * i], centred[3 * j + 1] - centred[3 * i + 1],
+          centred[3 * j + 2] - centred[3 * i + 2]};
+}
+
 // One sample's noise variance (radians^2), or NaN where its neighbourhood cannot be fitted.
 double sample_variance(const std::vector<double>& centred, const CloudView& cloud, const std::size_t* ids, int count,
                        double position_noise) {
   const std::size_t self = ids[0];
-  Vec3 own = cloud.normals.at(self);
-  const double own_length = geometry::norm(own);
-  if (!(own_length > 0) || !std::isfinite(own_length)) return NAN;
-  own = geometry::normalized(own);
+  Vec3 own;
+  if (!unit_normal(cloud, self, own)) return NAN;
   Vec3 a, b;
   geometry::tangent_basis(own, a, b);
   Eigen::Matrix<double, Eigen::Dynamic, kFieldCoefficients> x(count, kFieldCoefficients);
@@ -40,14 +53,12 @@ double sample_variance(const std::vector<double>& centred, const CloudView& clou
   int rows = 0;
   for (int k = 0; k < count; ++k) {
     const std::size_t j = ids[k];
-    Vec3 n = cloud.normals.at(j);
-    const double length = geometry::norm(n);
-    if (!(length > 0) || !std::isfinite(length)) continue;
+    Vec3 n;
+    if (!unit_normal(cloud, j, n)) continue;
     const double sign = geometry::dot(n, own) < 0 ? -1.0 : 1.0;
-    const Vec3 d = {centred[3 * j] - centred[3 * self], centred[3 * j + 1] - centred[3 * self + 1],
-                    centred[3 * j + 2] - centred[3 * self + 2]};
+    const Vec3 d = offset(centred, self, j);
     x.row(rows) << 1, geometry::dot(d, a), geometry::dot(d, b);
-    for (int c = 0; c < 3; ++c) y(rows, c) = sign * n[std::size_t(c)] / length;
+    for (int c = 0; c < 3; ++c) y(rows, c) = sign * n[std::size_t(c)];
     ++rows;
   }
   if (rows <= kFieldCoefficients + 1) return NAN;
@@ -94,25 +105,17 @@ double chord_normal_noise_deg(const std::vector<double>& centred, const CloudVie
   if (!cloud.has_normals() || nearest.neighbours <= kChordNeighbours) return -1;
   std::vector<double> chords;
   chords.reserve(nearest.samples() * kChordNeighbours);
-  auto unit_normal = [&](std::size_t i, Vec3& n) {
-    n = cloud.normals.at(i);
-    const double length = geometry::norm(n);
-    if (!(length > 0) || !std::isfinite(length)) return false;
-    n = geometry::normalized(n);
-    return true;
-  };
   for (std::size_t s = 0; s < nearest.samples(); ++s) {
     const std::size_t* ids = nearest.ids_of(s);
     const std::size_t self = ids[0];
     Vec3 own;
-    if (!unit_normal(self, own)) continue;
+    if (!unit_normal(cloud, self, own)) continue;
     for (int k = 1; k <= kChordNeighbours; ++k) {
       const std::size_t j = ids[k];
       Vec3 n;
-      if (!unit_normal(j, n)) continue;
+      if (!unit_normal(cloud, j, n)) continue;
       const double sign = geometry::dot(n, own) < 0 ? -1.0 : 1.0;
-      const Vec3 d = {centred[3 * j] - centred[3 * self], centred[3 * j + 1] - centred[3 * self + 1],
-                      centred[3 * j + 2] - centred[3 * self + 2]};
+      const Vec3 d = offset(centred, self, j);
       const double length = geometry::norm(d);
       if (!(length > 0)) continue;  // a duplicate point has no chord
       const Vec3 sum = {own[0] + sign * n[0], own[1] + sign * n[1], own[2] + sign * n[2]};

@@ -141,11 +141,10 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     return run;
   }
   if (pnf::detail::judge_cannot_see_gains(run.choice, root.plane_fits, root.own_error_deg)) {
-    const std::vector<double> input = pnf::detail::unit_rows(local.normals);
-    for (std::size_t i = 0; i < local.size(); ++i)
-      normals_out.set(i, {input[3 * i], input[3 * i + 1], input[3 * i + 2]});
-    run.choice.judged = pnf::detail::unseen_gains_judged(run.choice, root.input_rms_deg, root.own_error_deg);
+    // No pass, as one process: the input made unit, with the summary of the rule's setting.
     run.choice.params.iterations = 0;
+    run.summary = improve_normals(comm, local, normals_out, run.choice.params, options, progress);
+    run.choice.judged = pnf::detail::unseen_gains_judged(run.choice, root.input_rms_deg, root.own_error_deg);
     return run;
   }
   const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);
