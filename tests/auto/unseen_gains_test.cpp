@@ -1,6 +1,7 @@
-// --auto on noisy positions with input normals whose own noise is under the judge's own error
-// (lib/src/auto/judged_passes.hpp, judge_cannot_see_gains): exact normals come back as they went
-// in, and only there; plane fits (PCA) and normals with independent noise are judged as before.
+// --auto on noisy positions with input normals whose own noise is under the judge's error
+// (lib/src/auto/judged_passes.hpp, judge_cannot_see_gains, and the floor that noise puts under the
+// judge's error, judge_error_deg): exact normals come back as they went in, and only there; plane
+// fits (PCA) and normals with independent noise are judged as before.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -91,6 +92,25 @@ TEST(UnseenGains, OnlyOnNoisyPositionsForMeasuredNoiseUnderTheJudgesErrorWithout
   ASSERT_FALSE(detail::tries_fallback(clean));
   clean.estimate.normal_noise_neighbours_deg = 1.0;
   EXPECT_FALSE(detail::judge_cannot_see_gains(clean, 0, 2.0));
+}
+
+// The floor under the judge's error: where the input's errors are independent of the judge's fits,
+// its judged RMS D holds its noise s and the judge's error in quadrature (3, 4, 5); the judge's own
+// error where higher, or where no noise bounds it (below 0) or the noise alone exceeds D.
+TEST(UnseenGains, TheInputsOwnNoiseBoundsTheJudgesErrorFromBelow) {
+  EXPECT_NEAR(detail::judge_error_deg(5, 1, 3), 4, 1e-12);
+  EXPECT_NEAR(detail::judge_error_deg(5, 4.5, 3), 4.5, 1e-12);
+  EXPECT_NEAR(detail::judge_error_deg(5, 1, -1), 1, 1e-12);
+  EXPECT_NEAR(detail::judge_error_deg(3, 1, 5), 1, 1e-12);
+  // Only where the judge decides on noisy positions and the input normals are no plane fits.
+  AutoChoice noisy = choose_filter_params(estimate_data(house_with_exact_normals(0.5).cloud));
+  noisy.estimate.normal_noise_neighbours_deg = 3.0;
+  noisy.estimate.normal_noise_chords_deg = 2.0;
+  EXPECT_EQ(detail::noise_bounding_judge_deg(noisy, 0), 2.0);  // the lower reading (stein_noise_deg)
+  EXPECT_EQ(detail::noise_bounding_judge_deg(noisy, 16), -1);  // PCA normals over 16 points
+  AutoChoice clean = choose_filter_params(estimate_data(house_with_exact_normals(0).cloud));
+  clean.estimate.normal_noise_neighbours_deg = 3.0;
+  EXPECT_EQ(detail::noise_bounding_judge_deg(clean, 0), -1);
 }
 
 // PCA normals on the same positions are plane fits: judged as before, and the fallback's pass,

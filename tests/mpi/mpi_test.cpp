@@ -452,6 +452,27 @@ TEST(MpiAuto, KeepsNormalsNoPassCanBeJudgedOnAsOneProcess) {
   expect_auto_as_one_process(house.cloud, one, expected);
 }
 
+// The noisy house with PCA-16 normals tilted by 5 degrees (no plane fits any more): the input's own
+// noise puts a floor under the judge's error (judged_passes.hpp, judge_error_deg), which sets the
+// bars; every rank weighs the same floor from rank 0's judge.
+TEST(MpiAuto, JudgesWithTheFloorUnderTheJudgesErrorAsOneProcess) {
+  ScanNoise noise;
+  noise.position = 0.5;
+  PointCloud cloud = make_scanned_house(6000, noise).cloud;
+  EstimateParams pca;
+  pca.k = 16;
+  pca.orientation = Orientation::outward;
+  cloud.normals = estimate_normals(cloud.positions, pca);
+  std::mt19937 rng(7);
+  for (Vec3& n : cloud.normals) n = test::jitter_normal(n, 5, rng);
+  NormalFilter filter(reference_options());
+  std::vector<Vec3> expected(cloud.size());
+  const AutoRun one = improve_normals_auto(CloudView(cloud), MutableVec3ArrayView(expected), filter);
+  ASSERT_NE(one.choice.judged.find("by the input normals' own noise"), std::string::npos) << one.choice.judged;
+  ASSERT_GT(one.passes_kept, 0) << one.choice.judged;
+  expect_auto_as_one_process(cloud, one, expected);
+}
+
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one
 // process's estimate_data message) rather than a bare "too few points", also when the failing
 // slices are not rank 0's.

@@ -115,8 +115,8 @@ std::vector<FilterParams> detail::judged_candidates(const AutoChoice& choice) {
 
 bool detail::tries_smooth_detail(const AutoChoice& choice) { return judge_chooses_scale(choice); }
 
-double detail::rms_to_beat(double input_rms_deg, double own_error_deg) {
-  return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0)) - own_error_deg;
+double detail::rms_to_beat(double input_rms_deg, double error_deg) {
+  return std::sqrt(std::max(input_rms_deg * input_rms_deg - error_deg * error_deg, 0.0)) - error_deg;
 }
 
 bool detail::judged_passes_end(const std::vector<double>& rms_by_pass, int best_pass_here, double to_beat, int budget) {
@@ -145,14 +145,16 @@ int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& cho
   return std::max(params.iterations, kJudgedPassBudget);
 }
 
-std::string detail::judged_heading(double input_rms_deg, double own_error_deg, std::size_t samples, int fit_points,
-                                   int under_support) {
+std::string detail::judged_heading(double input_rms_deg, double own_error_deg, double error_deg, std::size_t samples,
+                                   int fit_points, int under_support) {
   const std::string support =
       under_support > 0 ? ", under the " + std::to_string(under_support) + " whose plane the input follows" : "";
+  const std::string floor =
+      error_deg > own_error_deg ? ", at least " + number(error_deg) + " by the input normals' own noise" : "";
   return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
-         std::to_string(fit_points) + " points" + support + ", its own error " + number(own_error_deg) +
-         " deg), RMS deg from the input (" + number(input_rms_deg) +
-         ", to beat: " + number(rms_to_beat(input_rms_deg, own_error_deg)) + ") by pass:";
+         std::to_string(fit_points) + " points" + support + ", its own error " + number(own_error_deg) + " deg" +
+         floor + "), RMS deg from the input (" + number(input_rms_deg) +
+         ", to beat: " + number(rms_to_beat(input_rms_deg, error_deg)) + ") by pass:";
 }
 
 std::string detail::judged_candidate(std::size_t candidate, const FilterParams& params,
@@ -174,26 +176,25 @@ std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) 
 
 bool detail::tries_fallback(const AutoChoice& choice) { return !judge_geometry(choice.estimate).quarter_allowed; }
 
-double detail::fallback_to_beat(double input_rms_deg, double own_error_deg) {
-  return std::sqrt(std::max(input_rms_deg * input_rms_deg - own_error_deg * own_error_deg, 0.0));
+double detail::fallback_to_beat(double input_rms_deg, double error_deg) {
+  return std::sqrt(std::max(input_rms_deg * input_rms_deg - error_deg * error_deg, 0.0));
 }
 
 bool detail::tries_narrow_pass(const AutoChoice& choice, int plane_fits) {
   return judge_chooses_scale(choice) && plane_fits > 0;
 }
 
-double detail::narrow_pass_to_beat(double input_rms_deg, double own_error_deg) { return input_rms_deg + own_error_deg; }
+double detail::narrow_pass_to_beat(double input_rms_deg, double error_deg) { return input_rms_deg + error_deg; }
 
-detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_deg,
-                                     double own_error_deg) {
+detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_deg, double error_deg) {
   Fallback fallback;
   if (tries_fallback(choice)) {
     fallback.params = fallback_setting(choice);
-    fallback.to_beat = fallback_to_beat(input_rms_deg, own_error_deg);
+    fallback.to_beat = fallback_to_beat(input_rms_deg, error_deg);
     fallback.candidate = kFallbackCandidate;
   } else if (tries_narrow_pass(choice, plane_fits)) {
     fallback.params = smooth_detail_setting(choice);
-    fallback.to_beat = narrow_pass_to_beat(input_rms_deg, own_error_deg);
+    fallback.to_beat = narrow_pass_to_beat(input_rms_deg, error_deg);
     fallback.candidate = kNarrowPassCandidate;
     fallback.plane_fits = plane_fits;
   }
@@ -238,15 +239,30 @@ void detail::prepare_judge(SurfaceJudge& judge, const AutoChoice& choice, const 
   }
 }
 
-bool detail::judge_cannot_see_gains(const AutoChoice& choice, int plane_fits, double own_error_deg) {
+double detail::noise_bounding_judge_deg(const AutoChoice& choice, int plane_fits) {
   const double noise = stein_noise_deg(choice);
-  return tries_fallback(choice) && !stein_decides(choice) && plane_fits == 0 && noise >= 0 && noise < own_error_deg;
+  return tries_fallback(choice) && !stein_decides(choice) && plane_fits == 0 && noise >= 0 ? noise : -1;
 }
 
-std::string detail::unseen_gains_judged(const AutoChoice& choice, double input_rms_deg, double own_error_deg) {
+double detail::judge_error_deg(double input_rms_deg, double own_error_deg, double input_noise_deg) {
+  if (input_noise_deg < 0) return own_error_deg;
+  const double floor = std::sqrt(std::max(input_rms_deg * input_rms_deg - input_noise_deg * input_noise_deg, 0.0));
+  return std::max(own_error_deg, floor);
+}
+
+bool detail::judge_cannot_see_gains(const AutoChoice& choice, int plane_fits, double error_deg) {
+  const double noise = noise_bounding_judge_deg(choice, plane_fits);
+  return noise >= 0 && noise < error_deg;
+}
+
+std::string detail::unseen_gains_judged(const AutoChoice& choice, double input_rms_deg, double own_error_deg,
+                                        double error_deg) {
+  const std::string error = error_deg > own_error_deg ? "at least " + number(error_deg) + " deg (its own error " +
+                                                            number(own_error_deg) + " deg)"
+                                                      : number(error_deg) + " deg";
   return "judged against the surface fitted to the positions: the input " + number(input_rms_deg) +
-         " deg, the judge's own error " + number(own_error_deg) + " deg, above the input normals' own noise (" +
-         own_noise_text(choice) + "), and they are no plane fits: no pass could be judged" + judged_outcome(0, 0);
+         " deg, the judge's error " + error + ", above the input normals' own noise (" + own_noise_text(choice) +
+         "), and they are no plane fits: no pass could be judged" + judged_outcome(0, 0);
 }
 
 bool detail::stein_decides(const AutoChoice& choice) {
@@ -318,12 +334,14 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   const detail::SurfaceJudge::Sums input_sums = judge.input_sums(input.data());
   const double input_rms = input_sums.rms_deg();
   const double own_error = input_sums.own_error_deg();
-  if (detail::judge_cannot_see_gains(run.choice, judge.plane_fits(), own_error)) {
+  const double error =
+      detail::judge_error_deg(input_rms, own_error, detail::noise_bounding_judge_deg(run.choice, judge.plane_fits()));
+  if (detail::judge_cannot_see_gains(run.choice, judge.plane_fits(), error)) {
     // No pass: the input normals made unit, with the summary (radius, sigmas, lists) a run of the
     // rule's setting reports, as where the rule chooses no pass.
     run.choice.params.iterations = 0;
     run.summary = filter.run(cloud, normals_out, run.choice.params, progress);
-    run.choice.judged = detail::unseen_gains_judged(run.choice, input_rms, own_error);
+    run.choice.judged = detail::unseen_gains_judged(run.choice, input_rms, own_error, error);
     return run;
   }
   std::size_t best_candidate = 0;
@@ -389,10 +407,10 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), rms_by_pass.begin() + 1, rms_by_pass.end());
     return rms_by_pass;
   };
-  // A pass must beat the input by more than the judge's own error explains (judged_passes.hpp).
-  double best_rms = detail::rms_to_beat(input_rms, own_error);
+  // A pass must beat the input by more than the judge's error explains (judged_passes.hpp).
+  double best_rms = detail::rms_to_beat(input_rms, error);
   std::string judged =
-      detail::judged_heading(input_rms, own_error, judge.size(), judge.scored(), judge.under_support());
+      detail::judged_heading(input_rms, own_error, error, judge.size(), judge.scored(), judge.under_support());
   const std::vector<FilterParams> checked = detail::held_out_settings(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
@@ -401,7 +419,7 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     const int setting = held_out && c == 0 ? 0 : -1;  // held_out_settings' first is this one
     judged += detail::judged_candidate(c, params, judged_run(params, c, best_rms, params.iterations, setting));
   }
-  const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, own_error);
+  const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, error);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     double to_beat = fallback.to_beat;
     // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the

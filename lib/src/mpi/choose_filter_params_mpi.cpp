@@ -1,7 +1,6 @@
 // pnf::mpi::choose_filter_params: --auto across the ranks (pnf/mpi.hpp), as one process chooses.
 #include <cstdint>
 #include <iterator>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -171,9 +170,8 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
     detail::check_mpi(MPI_Bcast(known, 2, MPI_INT, 0, comm), "MPI_Bcast");
     root->empty = known[0] != 0;
     root->plane_fits = known[1];
-    // What judge_cannot_see_gains weighs before any pass, where it may apply (with any own error).
-    if (!root->empty &&
-        pnf::detail::judge_cannot_see_gains(choice, root->plane_fits, std::numeric_limits<double>::infinity())) {
+    // What judge_error_deg and judge_cannot_see_gains weigh before any pass, where they may apply.
+    if (!root->empty && pnf::detail::noise_bounding_judge_deg(choice, root->plane_fits) >= 0) {
       double input[2] = {0, 0};
       if (rank == 0) {
         const pnf::detail::SurfaceJudge::Sums sums = root->judge.input_sums(root->input_normals.data());

@@ -66,6 +66,7 @@ class JudgedPasses {
     detail::check_mpi(MPI_Bcast(numbers, 8, MPI_DOUBLE, 0, comm_), "MPI_Bcast");
     judging_.rms_by_pass.assign(1, numbers[0]);
     judging_.own_error_deg = numbers[1];
+    judging_.error_deg = pnf::detail::judge_error_deg(numbers[0], numbers[1], judging_.input_noise_deg);
     judging_.fit_points = int(numbers[2]);
     judging_.samples = std::size_t(numbers[3]);
     judging_.under_support = int(numbers[4]);
@@ -76,12 +77,12 @@ class JudgedPasses {
     judging_on_ = judging_.budget > 0;
     checking_on_ = judging_.check;
     checked_best_ = std::min(judging_.checked_best_before, numbers[6]);
-    // A pass must beat the input by more than the judge's own error explains (a fallback's bar is
+    // A pass must beat the input by more than the judge's error explains (a fallback's bar is
     // its own: judged_passes.hpp).
     best_rms_ =
         std::min(judging_.best_before, judging_.fallback.candidate > 0
                                            ? judging_.fallback.to_beat
-                                           : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.own_error_deg));
+                                           : pnf::detail::rms_to_beat(judging_.rms_by_pass[0], judging_.error_deg));
     judging_.best_pass = 0;
   }
 

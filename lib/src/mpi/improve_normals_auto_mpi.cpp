@@ -140,11 +140,13 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     stein_run(comm, local, normals_out, options, progress, root, run);
     return run;
   }
-  if (pnf::detail::judge_cannot_see_gains(run.choice, root.plane_fits, root.own_error_deg)) {
+  const double input_noise = pnf::detail::noise_bounding_judge_deg(run.choice, root.plane_fits);
+  const double error = pnf::detail::judge_error_deg(root.input_rms_deg, root.own_error_deg, input_noise);
+  if (pnf::detail::judge_cannot_see_gains(run.choice, root.plane_fits, error)) {
     // No pass, as one process: the input made unit, with the summary of the rule's setting.
     run.choice.params.iterations = 0;
     run.summary = improve_normals(comm, local, normals_out, run.choice.params, options, progress);
-    run.choice.judged = pnf::detail::unseen_gains_judged(run.choice, root.input_rms_deg, root.own_error_deg);
+    run.choice.judged = pnf::detail::unseen_gains_judged(run.choice, root.input_rms_deg, root.own_error_deg, error);
     return run;
   }
   const std::vector<FilterParams> candidates = pnf::detail::judged_candidates(run.choice);
@@ -189,16 +191,17 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = params.iterations;
+    judging.input_noise_deg = input_noise;
     if (c > 0) judging.best_before = best_rms;
     if (held_out && c == 0) checking(judging);  // held_out_settings' first is this one
     const DistributedSummary summary =
         detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
     const double rms = judging.best_pass > 0 ? judging.rms_by_pass[std::size_t(judging.best_pass)]
-                                             : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.own_error_deg);
+                                             : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.error_deg);
     if (c == 0) {
       first = judging;
-      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.samples,
-                                           judging.fit_points, judging.under_support);
+      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.error_deg,
+                                           judging.samples, judging.fit_points, judging.under_support);
     }
     judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
     if (held_out && c == 0) checked_run(judging, params, 0, summary);
@@ -212,11 +215,12 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
   const pnf::detail::Fallback fallback =
-      pnf::detail::fallback_of(run.choice, first.plane_fits, first.rms_by_pass[0], first.own_error_deg);
+      pnf::detail::fallback_of(run.choice, first.plane_fits, first.rms_by_pass[0], first.error_deg);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = fallback.params.iterations;
+    judging.input_noise_deg = input_noise;
     judging.fallback = fallback;
     // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
     // check's budget; the judge scores its first pass.

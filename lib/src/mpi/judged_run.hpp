@@ -26,9 +26,9 @@ struct RootJudge {
   pnf::detail::HeldOutPlanes held_out;  // where the held-out check may run (pnf::detail::tries_held_out)
   bool empty = true;
   int plane_fits = 0;  // SurfaceJudge::plane_fits, known on every rank
-  // The judge's RMS of the input and its own error, known on every rank where the judge decides on
-  // noisy positions without plane fits (pnf::detail::judge_cannot_see_gains needs them before any
-  // pass); 0 elsewhere.
+  // The judge's RMS of the input and its own error, known on every rank where the input's own noise
+  // bounds the judge's error (pnf::detail::noise_bounding_judge_deg: judge_cannot_see_gains needs
+  // them before any pass); 0 elsewhere.
   double input_rms_deg = 0, own_error_deg = 0;
 };
 
@@ -39,6 +39,8 @@ struct PassJudging {
   std::vector<double> rms_by_pass;  // the judge's RMS (degrees) of the input, then each pass
   int best_pass = 0;                // 0: the input
   double own_error_deg = 0;         // the judge's own error (SurfaceJudge::own_error_deg)
+  double input_noise_deg = -1;      // set by the caller: pnf::detail::noise_bounding_judge_deg
+  double error_deg = 0;             // the error weighed: pnf::detail::judge_error_deg
   int fit_points = 0;               // the points of the fits that score (SurfaceJudge::scored)
   int under_support = 0;            // SurfaceJudge::under_support
   int plane_fits = 0;               // SurfaceJudge::plane_fits
