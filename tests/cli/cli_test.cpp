@@ -165,18 +165,21 @@ TEST_F(CliTest, InPlaceReplacesTheInput) {
   EXPECT_EQ(folder_entries(work_), std::set<std::string>{"in.ply"});
 }
 
-// PCL's output: NaN normals on valid points with too few neighbours (and an invalid NaN point).
-// `filter` keeps those points in place with their NaN normals, leaves them out of every
-// neighbourhood (the other normals are the library's on the cloud without them), and keeps the
-// organisation.
-// No pass run: the summary says none (it printed "passes 0: s").
+// No pass run: the summary says none (it printed "passes 0: s"), and no chunks (it printed "in 0
+// chunks").
 TEST_F(CliTest, NoPassesSaysNone) {
   const std::string in = write_cloud("plane.ply", jittered_grid(20, 1.0, 0.1, 3));
   const CliRun r = run({"filter", in, path("out.ply"), "--backend", "reference", "--iterations", "0"});
   ASSERT_EQ(r.exit_code, 0) << r.describe();
   EXPECT_TRUE(contains(r.err, "  passes       none\n")) << r.err;
+  EXPECT_TRUE(contains(r.err, " pairs per pass\n")) << r.err;
+  EXPECT_FALSE(contains(r.err, "chunk")) << r.err;
 }
 
+// PCL's output: NaN normals on valid points with too few neighbours (and an invalid NaN point).
+// `filter` keeps those points in place with their NaN normals, leaves them out of every
+// neighbourhood (the other normals are the library's on the cloud without them), and keeps the
+// organisation.
 TEST_F(CliTest, FilterKeepsPointsWithoutNormalsAsTheyWere) {
   const PointCloud grid = noisy_grid();
   const std::set<std::size_t> without_normals = {5, 17, 233}, invalid = {30};

@@ -50,8 +50,11 @@ void print_summary(const FilterFlags& f, const FilterParams& params, const Filte
   } else {
     std::fprintf(stderr, "  sigma_f      %.6g model units, sigma_g %.6g (absolute units)\n", s.sigma_f, s.sigma_g);
   }
-  std::fprintf(stderr, "  neighbours   mean %.1f, max %zu per point; %zu pairs per pass in %zu chunk%s\n",
-               s.neighbours_mean, s.neighbours_max, s.neighbour_pairs, s.chunks, s.chunks == 1 ? "" : "s");
+  std::fprintf(stderr, "  neighbours   mean %.1f, max %zu per point; %zu pairs per pass", s.neighbours_mean,
+               s.neighbours_max, s.neighbour_pairs);
+  // The lists are cut into chunks only where passes run (0 chunks where none ran).
+  if (s.chunks > 0) std::fprintf(stderr, " in %zu chunk%s", s.chunks, s.chunks == 1 ? "" : "s");
+  std::fprintf(stderr, "\n");
   std::fprintf(stderr, "  device       %s [%s]\n", s.device.c_str(), s.backend.c_str());
   std::fprintf(stderr, "  lists        %.3f s, upload %.3f s\n", s.neighbour_seconds, s.upload_seconds);
   if (s.pass_seconds.empty()) {

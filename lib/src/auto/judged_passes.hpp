@@ -205,7 +205,8 @@ double stein_noise_deg(const AutoChoice& choice);
 // on noisy positions where the judge decides (tries_fallback, not Stein's estimate), for input
 // normals that are no count's plane fits (`plane_fits` 0: exact normals, a mesh's, a scanner's),
 // whose errors are then independent of the judge's fits of the positions; stein_noise_deg (their
-// neighbours' normals' reading, or the chords' where lower), -1 where neither could read it.
+// neighbours' normals' reading, or the chords' where lower), -1 where the neighbours' could not
+// read it (the chords alone read position noise as well).
 double noise_bounding_judge_deg(const AutoChoice& choice, int plane_fits);
 
 // The judge's error (degrees) a judged run weighs: its own error (`own_error_deg`,
