@@ -94,6 +94,10 @@ class SurfaceJudge {
   // The input normals' sums (`input`, N by 3) at the scale scored: those choose_scale kept where
   // it was given them, so that the input is fitted once, else fitted now.
   Sums input_sums(const double* input) const { return input_sums_.samples > 0 ? input_sums_ : sums(input); }
+  // Fits the input (`input`, N by 3) now and keeps its sums for input_sums, where they are needed
+  // before the passes as well as by them (a distributed run's rank 0: judged_passes.hpp,
+  // judge_error_deg), so that it is fitted once.
+  void keep_input_sums(const double* input) { input_sums_ = input_sums(input); }
   double input_rms_deg(const double* input) const {
     return input_sums_.samples > 0 ? input_sums_.rms_deg() : rms_deg(input);
   }
@@ -107,7 +111,7 @@ class SurfaceJudge {
   std::vector<double> offsets_;  // per sample, `neighbours_` rows of x y z from the sample
   int neighbours_ = 0, scored_ = 0;
   double width_ = 0;
-  Sums input_sums_;  // choose_scale's, at the scale it chose; no samples where it did not run
+  Sums input_sums_;  // choose_scale's or keep_input_sums', at the scale scored; no samples where neither ran
   int under_support_ = 0;
   int plane_fits_ = 0;
 };

@@ -174,6 +174,7 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
     if (!root->empty && pnf::detail::noise_bounding_judge_deg(choice, root->plane_fits) >= 0) {
       double input[2] = {0, 0};
       if (rank == 0) {
+        root->judge.keep_input_sums(root->input_normals.data());  // kept for the judged runs
         const pnf::detail::SurfaceJudge::Sums sums = root->judge.input_sums(root->input_normals.data());
         input[0] = sums.rms_deg();
         input[1] = sums.own_error_deg();
