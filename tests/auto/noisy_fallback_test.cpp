@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -18,16 +19,16 @@
 namespace pnf::test {
 namespace {
 
-// The scanned house (6000 points, `position_noise` spacings of position noise) with PCA normals
+// The scanned house (`points` points, `position_noise` spacings of position noise) with PCA normals
 // over k points, turned to the true side.
 struct NoisyHouse {
   PointCloud cloud;
   std::vector<Vec3> truth;
 };
-NoisyHouse noisy_house(int k, double position_noise = 0.5) {
+NoisyHouse noisy_house(int k, double position_noise = 0.5, std::size_t points = 6000) {
   ScanNoise noise;
   noise.position = position_noise;
-  const SyntheticCloud house = make_scanned_house(6000, noise);
+  const SyntheticCloud house = make_scanned_house(points, noise);
   NoisyHouse h{house.cloud, house.true_normals};
   EstimateParams params;
   params.k = k;
@@ -74,9 +75,9 @@ TEST(NoisyFallback, KeepsItsPassWhereTheJudgeVouchesForIt) {
 
 // On two spacings of noise with PCA-16 normals (plane fits), where the judge and the fallback keep
 // the input, the held-out check (held_out_planes.hpp) keeps a pass, which is a plain run of its
-// setting and truly better than the input.
+// setting and truly better than the input. 9000 points: the judge's fits of 4097 hold under half.
 TEST(NoisyFallback, TheHeldOutCheckDecidesWhereTheFallbackMisses) {
-  NoisyHouse h = noisy_house(16, 2.0);
+  NoisyHouse h = noisy_house(16, 2.0, 9000);
   NormalFilter& filter = fastest_filter();
   std::vector<Vec3> out(h.cloud.size());
   const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), filter);
@@ -89,6 +90,51 @@ TEST(NoisyFallback, TheHeldOutCheckDecidesWhereTheFallbackMisses) {
   EXPECT_LT(angle_from_plain_run(filter, h.cloud, run, out), 1e-9) << "the kept normals are not the setting's own run";
   EXPECT_LT(rms_line_angle(out, h.truth), 0.95 * rms_line_angle(h.cloud.normals, h.truth));
   EXPECT_LT(mean_angle_deg(out, h.truth), 0.95 * mean_angle_deg(h.cloud.normals, h.truth));
+}
+
+// The same house at 6000 points: the judge's fits of 4097 points hold more than half the cloud and
+// vouch for no pass (judged_passes.hpp, judge_fits_too_wide); the held-out check alone decides,
+// over the rule's setting and the fallback's, and its pass is truly better than the input.
+TEST(NoisyFallback, TheHeldOutCheckAloneDecidesWhereTheJudgesFitsHoldHalfTheCloud) {
+  NoisyHouse h = noisy_house(16, 2.0);
+  NormalFilter& filter = fastest_filter();
+  std::vector<Vec3> out(h.cloud.size());
+  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), filter);
+  const std::string& judged = run.choice.judged;
+  ASSERT_NE(judged.find("(fits of 4097 points, more than half of the"), std::string::npos) << judged;
+  EXPECT_EQ(judged.find("its own error"), std::string::npos) << "the judge scored the passes: " << judged;
+  EXPECT_EQ(judged.find("; fallback"), std::string::npos) << judged;
+  EXPECT_NE(judged.find(": the held-out check's pass"), std::string::npos) << judged;
+  ASSERT_GT(run.passes_kept, 0);
+  EXPECT_LT(angle_from_plain_run(filter, h.cloud, run, out), 1e-9) << "the kept normals are not the setting's own run";
+  EXPECT_LT(rms_line_angle(out, h.truth), rms_line_angle(h.cloud.normals, h.truth));
+  EXPECT_LT(mean_angle_deg(out, h.truth), mean_angle_deg(h.cloud.normals, h.truth));
+}
+
+// The same house with its true normals tilted by 10 degrees (no plane fits, so no held-out check):
+// the input comes back as it went in, with the rule's setting's summary.
+TEST(NoisyFallback, KeepsTheInputWhereTheJudgesFitsHoldHalfTheCloud) {
+  NoisyHouse h = noisy_house(16, 2.0);
+  std::mt19937 rng(7);
+  for (std::size_t i = 0; i < h.truth.size(); ++i) h.cloud.normals[i] = jitter_normal(h.truth[i], 10, rng);
+  std::vector<Vec3> out(h.cloud.size());
+  const AutoRun run = improve_normals_auto(h.cloud, MutableVec3ArrayView(out), fastest_filter());
+  const std::string& judged = run.choice.judged;
+  EXPECT_NE(judged.find("more than half of the"), std::string::npos) << judged;
+  EXPECT_NE(judged.find(": the input normals kept"), std::string::npos) << judged;
+  EXPECT_EQ(run.passes_kept, 0);
+  EXPECT_EQ(run.summary.passes_run, 0);
+  EXPECT_GT(run.summary.sigma_f, 0);
+  double most = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) most = std::max(most, angle_deg(out[i], h.cloud.normals[i]));
+  EXPECT_LT(most, 1e-6);  // kept normals come back unit length: rounding only
+}
+
+// More than half the cloud's points, and only then.
+TEST(NoisyFallback, JudgesFitsTooWideFromMoreThanHalfTheCloud) {
+  EXPECT_FALSE(detail::judge_fits_too_wide(3000, 6000));
+  EXPECT_TRUE(detail::judge_fits_too_wide(3001, 6000));
+  EXPECT_FALSE(detail::judge_fits_too_wide(4097, 100000));
 }
 
 // Only where the positions are not clean (the judge's quarter refused), and its bar is the

@@ -424,8 +424,9 @@ TEST(MpiAuto, JudgesUnderTheInputsSupportAsOneProcess) {
   expect_house_with_pca_normals_as_one_process(0, 64, "fits of 32 points, under the 64 whose plane the input follows");
 }
 
-// The held-out check on noisy positions (the fallback misses its bar over PCA-16 normals at two
-// spacings of noise), its planes on rank 0 and its pass kept on every rank, as one process keeps it.
+// The held-out check on noisy positions (PCA-16 normals at two spacings of noise, where the judge's
+// fits hold more than half the house and vouch for no pass: judged_passes.hpp,
+// judge_fits_too_wide), its planes on rank 0 and its pass kept on every rank, as one process keeps it.
 TEST(MpiAuto, JudgesTheHeldOutCheckAsOneProcess) {
   expect_house_with_pca_normals_as_one_process(2.0, 16, ": the held-out check's pass");
 }
@@ -471,6 +472,23 @@ TEST(MpiAuto, JudgesWithTheFloorUnderTheJudgesErrorAsOneProcess) {
   ASSERT_NE(one.choice.judged.find("by the input normals' own noise"), std::string::npos) << one.choice.judged;
   ASSERT_GT(one.passes_kept, 0) << one.choice.judged;
   expect_auto_as_one_process(cloud, one, expected);
+}
+
+// The same house with its true normals tilted by 10 degrees (no plane fits, so no held-out check):
+// the input kept without a pass on every rank, as one process keeps it.
+TEST(MpiAuto, KeepsTheInputWhereTheJudgesFitsHoldHalfTheCloudAsOneProcess) {
+  ScanNoise noise;
+  noise.position = 2.0;
+  SyntheticCloud house = make_scanned_house(6000, noise);
+  std::mt19937 rng(7);
+  for (std::size_t i = 0; i < house.true_normals.size(); ++i) {
+    house.cloud.normals[i] = test::jitter_normal(house.true_normals[i], 10, rng);
+  }
+  NormalFilter filter(reference_options());
+  std::vector<Vec3> expected(house.cloud.size());
+  const AutoRun one = improve_normals_auto(CloudView(house.cloud), MutableVec3ArrayView(expected), filter);
+  ASSERT_NE(one.choice.judged.find("more than half of the"), std::string::npos) << one.choice.judged;
+  expect_auto_as_one_process(house.cloud, one, expected);
 }
 
 // Points on a line cannot be estimated on any rank: every rank ends with the cause (the one

@@ -265,6 +265,16 @@ std::string detail::unseen_gains_judged(const AutoChoice& choice, double input_r
          "), and they are no plane fits: no pass could be judged" + judged_outcome(0, 0);
 }
 
+bool detail::judge_fits_too_wide(int fit_points, std::size_t cloud_points) {
+  return 2 * std::size_t(std::max(fit_points, 0)) > cloud_points;
+}
+
+std::string detail::too_wide_heading(std::size_t samples, int fit_points, std::size_t cloud_points) {
+  return "judged against the surface fitted to the positions at " + std::to_string(samples) + " points (fits of " +
+         std::to_string(fit_points) + " points, more than half of the " + std::to_string(cloud_points) +
+         "): fits that wide follow the cloud's overall shape and vouch for no pass";
+}
+
 bool detail::stein_decides(const AutoChoice& choice) {
   return independent_normal_errors(choice) && choice.estimate.normal_noise_neighbours_deg > 0;
 }
@@ -348,6 +358,14 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   // The held-out check (judged_passes.hpp), where it may run: its planes and the best pass it
   // has seen, kept apart from the judge's until the judge's settings and fallback keep the input.
   const bool held_out = detail::tries_held_out(run.choice, judge.plane_fits());
+  const bool too_wide = detail::judge_fits_too_wide(judge.scored(), cloud.size());
+  if (too_wide && !held_out) {  // no pass to judge by (judged_passes.hpp): the input, as above
+    run.choice.params.iterations = 0;
+    run.summary = filter.run(cloud, normals_out, run.choice.params, progress);
+    run.choice.judged =
+        detail::too_wide_heading(judge.size(), judge.scored(), cloud.size()) + detail::judged_outcome(0, 0);
+    return run;
+  }
   const detail::HeldOutPlanes planes =
       held_out ? detail::HeldOutPlanes(cloud.positions, input) : detail::HeldOutPlanes();
   const double held_out_input = planes.score(input.data()).disagreement_deg;
@@ -409,15 +427,20 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   };
   // A pass must beat the input by more than the judge's error explains (judged_passes.hpp).
   double best_rms = detail::rms_to_beat(input_rms, error);
-  std::string judged =
-      detail::judged_heading(input_rms, own_error, error, judge.size(), judge.scored(), judge.under_support());
+  // Where the judge's fits are too wide, only the held-out check runs and decides: the rule's
+  // setting and the fallback's, each to the check's budget, none of their passes judged.
+  std::string judged = too_wide ? detail::too_wide_heading(judge.size(), judge.scored(), cloud.size())
+                                : detail::judged_heading(input_rms, own_error, error, judge.size(), judge.scored(),
+                                                         judge.under_support());
   const std::vector<FilterParams> checked = detail::held_out_settings(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
     params.iterations = detail::judged_pass_budget(params, run.choice);
     const int setting = held_out && c == 0 ? 0 : -1;  // held_out_settings' first is this one
-    judged += detail::judged_candidate(c, params, judged_run(params, c, best_rms, params.iterations, setting));
+    if (too_wide && setting < 0) continue;
+    const std::vector<double> rms_by_pass = judged_run(params, c, best_rms, too_wide ? 0 : params.iterations, setting);
+    if (!too_wide) judged += detail::judged_candidate(c, params, rms_by_pass);
   }
   const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, error);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
@@ -426,8 +449,9 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     // check's budget; the judge scores its first pass.
     FilterParams params = fallback.params;
     if (held_out) params.iterations = checked[1].iterations;
-    judged += detail::judged_fallback(
-        fallback, judged_run(params, fallback.candidate, to_beat, fallback.params.iterations, held_out ? 1 : -1));
+    const std::vector<double> rms_by_pass =
+        judged_run(params, fallback.candidate, to_beat, too_wide ? 0 : fallback.params.iterations, held_out ? 1 : -1);
+    if (!too_wide) judged += detail::judged_fallback(fallback, rms_by_pass);
   }
   // The check's text only where it decided: where the judge kept a pass, the check stopped.
   if (run.passes_kept == 0 && held_out) judged += held_out_text;

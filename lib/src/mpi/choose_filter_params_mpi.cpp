@@ -166,10 +166,20 @@ AutoChoice detail::rule_choice(MPI_Comm comm, const Agreement& agree, const Clou
   });
   broadcast(comm, choice);
   if (root) {
-    int known[2] = {rank == 0 ? int(root->judge.empty()) : 1, rank == 0 ? root->judge.plane_fits() : 0};
-    detail::check_mpi(MPI_Bcast(known, 2, MPI_INT, 0, comm), "MPI_Bcast");
+    long long known[5] = {1, 0, 0, 0, 0};
+    if (rank == 0) {
+      known[0] = root->judge.empty() ? 1 : 0;
+      known[1] = root->judge.plane_fits();
+      known[2] = root->judge.scored();
+      known[3] = static_cast<long long>(root->input_normals.size() / 3);
+      known[4] = static_cast<long long>(root->judge.size());
+    }
+    detail::check_mpi(MPI_Bcast(known, 5, MPI_LONG_LONG, 0, comm), "MPI_Bcast");
     root->empty = known[0] != 0;
-    root->plane_fits = known[1];
+    root->plane_fits = int(known[1]);
+    root->fit_points = int(known[2]);
+    root->cloud_points = std::size_t(known[3]);
+    root->samples = std::size_t(known[4]);
     // What judge_error_deg and judge_cannot_see_gains weigh before any pass, where they may apply.
     if (!root->empty && pnf::detail::noise_bounding_judge_deg(choice, root->plane_fits) >= 0) {
       double input[2] = {0, 0};

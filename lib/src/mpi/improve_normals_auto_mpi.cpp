@@ -157,6 +157,14 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   // The held-out check, as one process's improve_normals_auto runs it: its settings, the best
   // pass it has kept (this rank's rows) and its text.
   const bool held_out = pnf::detail::tries_held_out(run.choice, root.plane_fits);
+  const bool too_wide = pnf::detail::judge_fits_too_wide(root.fit_points, root.cloud_points);
+  if (too_wide && !held_out) {  // no pass to judge by, as one process
+    run.choice.params.iterations = 0;
+    run.summary = improve_normals(comm, local, normals_out, run.choice.params, options, progress);
+    run.choice.judged = pnf::detail::too_wide_heading(root.samples, root.fit_points, root.cloud_points) +
+                        pnf::detail::judged_outcome(0, 0);
+    return run;
+  }
   const std::vector<FilterParams> checked_settings = pnf::detail::held_out_settings(run.choice);
   std::vector<Vec3> checked(held_out ? local.size() : 0), checked_trial(held_out ? local.size() : 0);
   double checked_best = std::numeric_limits<double>::infinity();
@@ -186,11 +194,13 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   };
   detail::PassJudging first;  // the rule's setting's judging: the judge's numbers, as every rank has them
   for (std::size_t c = 0; c < candidates.size(); ++c) {
+    // Where the judge's fits are too wide, only the held-out check runs (as one process runs it).
+    if (too_wide && !(held_out && c == 0)) continue;
     FilterParams params = candidates[c];
     params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
-    judging.budget = params.iterations;
+    judging.budget = too_wide ? 0 : params.iterations;
     judging.input_noise_deg = input_noise;
     if (c > 0) judging.best_before = best_rms;
     if (held_out && c == 0) checking(judging);  // held_out_settings' first is this one
@@ -200,10 +210,11 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
                                              : pnf::detail::rms_to_beat(judging.rms_by_pass[0], judging.error_deg);
     if (c == 0) {
       first = judging;
-      judged = pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.error_deg,
-                                           judging.samples, judging.fit_points, judging.under_support);
+      judged = too_wide ? pnf::detail::too_wide_heading(root.samples, root.fit_points, root.cloud_points)
+                        : pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.error_deg,
+                                                      judging.samples, judging.fit_points, judging.under_support);
     }
-    judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
+    if (!too_wide) judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
     if (held_out && c == 0) checked_run(judging, params, 0, summary);
     if (c == 0 || rms < best_rms) {
       best_candidate = c;
@@ -219,7 +230,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
-    judging.budget = fallback.params.iterations;
+    judging.budget = too_wide ? 0 : fallback.params.iterations;
     judging.input_noise_deg = input_noise;
     judging.fallback = fallback;
     // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
@@ -231,7 +242,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     }
     const DistributedSummary summary =
         detail::improve_normals(comm, local, MutableVec3ArrayView(trial), params, options, progress, &judging);
-    judged += pnf::detail::judged_fallback(fallback, judging.rms_by_pass);
+    if (!too_wide) judged += pnf::detail::judged_fallback(fallback, judging.rms_by_pass);
     if (held_out) checked_run(judging, params, 1, summary);
     if (judging.best_pass > 0) {
       best_candidate = fallback.candidate;

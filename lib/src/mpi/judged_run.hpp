@@ -25,7 +25,10 @@ struct RootJudge {
   pnf::detail::SteinRisk stein;         // where Stein's estimate decides (pnf::detail::stein_decides)
   pnf::detail::HeldOutPlanes held_out;  // where the held-out check may run (pnf::detail::tries_held_out)
   bool empty = true;
-  int plane_fits = 0;  // SurfaceJudge::plane_fits, known on every rank
+  int plane_fits = 0;            // SurfaceJudge::plane_fits, known on every rank
+  int fit_points = 0;            // SurfaceJudge::scored, known on every rank
+  std::size_t cloud_points = 0;  // the whole cloud's, known on every rank
+  std::size_t samples = 0;       // the judge's (SurfaceJudge::size), known on every rank
   // The judge's RMS of the input and its own error, known on every rank where the input's own noise
   // bounds the judge's error (pnf::detail::noise_bounding_judge_deg: judge_cannot_see_gains needs
   // them before any pass); 0 elsewhere.
