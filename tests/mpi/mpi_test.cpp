@@ -411,6 +411,13 @@ TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
   expect_house_with_pca_normals_as_one_process(0.5, 16, ": the fallback, 1 pass kept");
 }
 
+// The same where the judge's fits hold several passes' reach and the input normals are plane fits
+// (the house at 0.8 spacings of noise with PCA-16 normals): the fallback runs the passes
+// fallback_pass_budget allows (judged_passes.hpp), every rank judging them from rank 0's judge.
+TEST(MpiAuto, JudgesTheFallbacksPassesAsOneProcess) {
+  expect_house_with_pca_normals_as_one_process(0.8, 16, ": the fallback, 3 passes kept");
+}
+
 // The same on clean positions, where the judge tries the smooth-detail setting after the rule's
 // (lib/src/auto/judged_passes.hpp, tries_smooth_detail): its passes are judged against the best
 // of the rule's, and end where one process's end.

@@ -8,6 +8,8 @@
 
 #include "cloud_checks.hpp"
 #include "filter_engine.hpp"
+#include "filter_plan.hpp"
+#include "geometry.hpp"
 #include "held_out_planes.hpp"
 #include "judged_passes.hpp"
 #include "pnf/error.hpp"
@@ -186,10 +188,27 @@ bool detail::tries_narrow_pass(const AutoChoice& choice, int plane_fits) {
 
 double detail::narrow_pass_to_beat(double input_rms_deg, double error_deg) { return input_rms_deg + error_deg; }
 
-detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, double input_rms_deg, double error_deg) {
+double detail::pass_reach_points(const AutoChoice& choice, const FilterParams& params) {
+  const DataEstimate& e = choice.estimate;
+  if (!(e.area_spacing > 0) || !(e.mean_radius > 0)) return 0;
+  const double reach = make_filter_plan(params, MeanRadius{e.mean_radius, e.radius_source}).reach;
+  return geometry::kPi * reach * reach / (e.area_spacing * e.area_spacing);
+}
+
+int detail::fallback_pass_budget(const AutoChoice& choice, int plane_fits, int fit_points) {
+  if (plane_fits <= 0) return 1;
+  const double reach = pass_reach_points(choice, fallback_setting(choice));
+  if (!(reach > 0)) return 1;
+  const double passes = std::floor(double(fit_points) / reach);
+  return int(std::clamp(passes, 1.0, double(kFallbackPlaneFitPasses)));
+}
+
+detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, int fit_points, double input_rms_deg,
+                                     double error_deg) {
   Fallback fallback;
   if (tries_fallback(choice)) {
     fallback.params = fallback_setting(choice);
+    fallback.params.iterations = fallback_pass_budget(choice, plane_fits, fit_points);
     fallback.to_beat = fallback_to_beat(input_rms_deg, error_deg);
     fallback.candidate = kFallbackCandidate;
   } else if (tries_narrow_pass(choice, plane_fits)) {
@@ -442,11 +461,12 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     const std::vector<double> rms_by_pass = judged_run(params, c, best_rms, too_wide ? 0 : params.iterations, setting);
     if (!too_wide) judged += detail::judged_candidate(c, params, rms_by_pass);
   }
-  const detail::Fallback fallback = detail::fallback_of(run.choice, judge.plane_fits(), input_rms, error);
+  const detail::Fallback fallback =
+      detail::fallback_of(run.choice, judge.plane_fits(), judge.scored(), input_rms, error);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     double to_beat = fallback.to_beat;
     // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
-    // check's budget; the judge scores its first pass.
+    // check's budget; the judge scores its first passes (fallback_pass_budget).
     FilterParams params = fallback.params;
     if (held_out) params.iterations = checked[1].iterations;
     const std::vector<double> rms_by_pass =

@@ -226,7 +226,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     run.judged_rms_deg.insert(run.judged_rms_deg.end(), judging.rms_by_pass.begin() + 1, judging.rms_by_pass.end());
   }
   const pnf::detail::Fallback fallback =
-      pnf::detail::fallback_of(run.choice, first.plane_fits, first.rms_by_pass[0], first.error_deg);
+      pnf::detail::fallback_of(run.choice, first.plane_fits, first.fit_points, first.rms_by_pass[0], first.error_deg);
   if (run.passes_kept == 0 && fallback.candidate > 0) {
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
@@ -234,7 +234,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     judging.input_noise_deg = input_noise;
     judging.fallback = fallback;
     // With the held-out check, the fallback's setting (held_out_settings' second) runs on to the
-    // check's budget; the judge scores its first pass.
+    // check's budget; the judge scores its first passes (fallback_pass_budget).
     FilterParams params = fallback.params;
     if (held_out) {
       params.iterations = checked_settings[1].iterations;
