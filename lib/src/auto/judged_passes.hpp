@@ -165,11 +165,11 @@ constexpr int kFallbackPlaneFitPasses = 4;
 // wider than the judge's fits smooths the detail they miss, and the judge scores that as a gain.
 // Chosen on the real meshes (docs/auto.md, "More fallback passes for plane fits"): fits of 257
 // points on the sparse clouds hold 1.1-1.5 passes' reach, and there the passes after the first
-// lost on 8 of 15 rows, 2 of them to worse than the input (the crank at 20k points and 0.25%
-// noise, PCA-16: 26.28 deg in, 25.98 after one pass, 26.58 after three); fits of 1025-4097 points
+// lost on 10 of 18 rows, one to worse than the input (the crank at 20k points and 0.25% noise,
+// PCA-16: 26.28 deg in, 25.98 after one pass, 26.58 after three); fits of 1025-4097 points
 // hold 3-8, and there the later passes gained on every row where they ran (the teddy at 100k
 // points and 0.6% noise, PCA-64: 16.83 deg in, 12.98 after one pass, 10.42 after four; the
-// fertility at 20k points and 0.6%, PCA-16: 23.81 after one, 16.59 after four).
+// fertility at 20k points and 0.6%, PCA-16: 23.81 after one, 17.14 after three).
 int fallback_pass_budget(const AutoChoice& choice, int plane_fits, int fit_points);
 
 // The fallback a judged run tries where its settings keep the input, if any (tries_fallback or
