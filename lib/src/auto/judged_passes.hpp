@@ -119,9 +119,9 @@ double rms_to_beat(double input_rms_deg, double error_deg);
 bool tries_fallback(const AutoChoice& choice);
 FilterParams fallback_setting(const AutoChoice& choice);
 // The fallback's bar: sqrt(input^2 - e^2), the first half of rms_to_beat. The input reads e in
-// quadrature above its true error (as there); one pass reaches about a hundred points where the
-// judge's fits on noisy clouds hold 1025-4097 points, so it is not held to share the judge's
-// whole error. Its first pass is kept only below this: with the plain comparison (below the
+// quadrature above its true error (as there); one pass reaches 170-510 points (pass_reach_points)
+// where the judge's fits on noisy clouds of 100k points hold 1025-4097, so it is not held to share
+// the judge's whole error. Its first pass is kept only below this: with the plain comparison (below the
 // input's score) 4 of the 72 noisy real and held-out cases came back worse than their input, 3 of
 // them held out, and this bar was chosen after that, so the held-out sets no longer test it
 // independently (docs/auto.md).
