@@ -396,11 +396,12 @@ void expect_pca_normals_as_one_process(PointCloud cloud, int k, const std::strin
   expect_auto_as_one_process(cloud, one, expected);
 }
 
-// The house (6000 points, `position_noise` spacings of noise) with PCA normals over `k` points.
-void expect_house_with_pca_normals_as_one_process(double position_noise, int k, const std::string& judged_part) {
+// The house (`points` points, `position_noise` spacings of noise) with PCA normals over `k` points.
+void expect_house_with_pca_normals_as_one_process(double position_noise, int k, const std::string& judged_part,
+                                                  std::size_t points = 6000) {
   ScanNoise noise;
   noise.position = position_noise;
-  expect_pca_normals_as_one_process(make_scanned_house(6000, noise).cloud, k, judged_part);
+  expect_pca_normals_as_one_process(make_scanned_house(points, noise).cloud, k, judged_part);
 }
 
 }  // namespace
@@ -412,10 +413,11 @@ TEST(MpiAuto, JudgesTheNoisyFallbackAsOneProcess) {
 }
 
 // The same where the judge's fits hold several passes' reach and the input normals are plane fits
-// (the house at 0.8 spacings of noise with PCA-16 normals): the fallback runs the passes
-// fallback_pass_budget allows (judged_passes.hpp), every rank judging them from rank 0's judge.
+// (the house at 0.8 spacings of noise with PCA-16 normals; 4000 points, which keep the sanitizer
+// build's run short): the fallback runs the passes fallback_pass_budget allows (judged_passes.hpp),
+// every rank judging them from rank 0's judge.
 TEST(MpiAuto, JudgesTheFallbacksPassesAsOneProcess) {
-  expect_house_with_pca_normals_as_one_process(0.8, 16, ": the fallback, 3 passes kept");
+  expect_house_with_pca_normals_as_one_process(0.8, 16, ": the fallback, 3 passes kept", 4000);
 }
 
 // The same on clean positions, where the judge tries the smooth-detail setting after the rule's
