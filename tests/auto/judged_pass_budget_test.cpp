@@ -14,6 +14,9 @@
 namespace pnf::test {
 namespace {
 
+// The judge's fits on 100k points: 4097 points.
+constexpr int kFits = 4097;
+
 // The rule's choice on an estimate of a curved shape with edges, 100k points, area spacing 0.01
 // and mean radius 0.02 model units, 0.5 spacings of noise, normal errors of `normal_noise_deg`
 // that are (coupling 0.1, correlation 0.05) or are not (0.9) independent of the positions.
@@ -41,7 +44,7 @@ TEST(JudgedPassBudget, TheIndependentErrorsLineRunsItsOwnPasses) {
     const FilterParams line = detail::independent_errors_setting(choice);
     EXPECT_TRUE(detail::on_independent_errors_line(choice, line));
     EXPECT_EQ(line.iterations, passes) << noise_deg << " deg";
-    EXPECT_EQ(detail::judged_pass_budget(line, choice), passes) << noise_deg << " deg";
+    EXPECT_EQ(detail::judged_pass_budget(line, choice, kFits), passes) << noise_deg << " deg";
   }
 }
 
@@ -58,7 +61,7 @@ TEST(JudgedPassBudget, PlainAveragingRunsTheLinesPassesBesideTheJudgedSettings) 
     EXPECT_GE(plain.sigma_g, 1e5) << "the feature term off";
     EXPECT_EQ(plain.units, Units::radius);
     EXPECT_EQ(plain.iterations, passes);
-    EXPECT_EQ(detail::judged_pass_budget(plain, choice), passes) << noise_deg << " deg";
+    EXPECT_EQ(detail::judged_pass_budget(plain, choice, kFits), passes) << noise_deg << " deg";
   }
 }
 
@@ -68,9 +71,9 @@ TEST(JudgedPassBudget, OtherSettingsGetTheWholeBudget) {
   FilterParams tight = detail::independent_errors_setting(choice);
   tight.sigma_g /= 4;
   EXPECT_FALSE(detail::on_independent_errors_line(choice, tight));
-  EXPECT_EQ(detail::judged_pass_budget(tight, choice), detail::kJudgedPassBudget);
+  EXPECT_EQ(detail::judged_pass_budget(tight, choice, kFits), detail::kJudgedPassBudget);
   tight.iterations = 14;  // the setting's own passes, where more than the budget
-  EXPECT_EQ(detail::judged_pass_budget(tight, choice), 14);
+  EXPECT_EQ(detail::judged_pass_budget(tight, choice, kFits), 14);
 }
 
 TEST(JudgedPassBudget, PcaNormalsOnTheLinesSigmasKeepTheWholeBudget) {
@@ -81,7 +84,7 @@ TEST(JudgedPassBudget, PcaNormalsOnTheLinesSigmasKeepTheWholeBudget) {
   ASSERT_FALSE(detail::independent_normal_errors(pca));
   FilterParams params = detail::independent_errors_setting(independent);
   EXPECT_FALSE(detail::on_independent_errors_line(pca, params));
-  EXPECT_EQ(detail::judged_pass_budget(params, pca), detail::kJudgedPassBudget);
+  EXPECT_EQ(detail::judged_pass_budget(params, pca, kFits), detail::kJudgedPassBudget);
 }
 
 TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
@@ -93,7 +96,30 @@ TEST(JudgedPassBudget, FlatShapesWithoutSharpCreasesHaveNoSuchLine) {
   const AutoChoice plane = choose_filter_params(e);
   ASSERT_TRUE(detail::independent_normal_errors(plane));
   EXPECT_FALSE(detail::on_independent_errors_line(plane, plane.params));
-  EXPECT_EQ(detail::judged_pass_budget(plane.params, plane), detail::kJudgedPassBudget);
+  EXPECT_EQ(detail::judged_pass_budget(plane.params, plane, kFits), detail::kJudgedPassBudget);
+}
+
+// Where the noise hides the features (over 3 spacings), the rule averages plainly (sigma_f 8.5
+// spacings, the feature term off) for up to 14 passes; the judge runs as many as its fits vouch
+// for: passes that together reach no more points than the fits hold (k passes reach k times one
+// pass's pi (2 sigma_f)^2 spacings^2), one at least. Under that noise the budget is whole.
+TEST(JudgedPassBudget, WhereTheNoiseHidesTheFeaturesThePassesTheJudgesFitsHold) {
+  DataEstimate e = choice_with(10, false).estimate;
+  e.position_noise = 4 * e.area_spacing;
+  const AutoChoice noisy = choose_filter_params(e);
+  ASSERT_TRUE(detail::noise_hides_features(noisy.estimate));
+  ASSERT_TRUE(detail::feature_term_off(noisy.params));
+  ASSERT_EQ(noisy.params.iterations, 14);
+  // sigma_f 8.5 spacings, reach 17 spacings: 907.9 points a pass.
+  const double reach = 3.14159265358979 * 17 * 17;
+  EXPECT_EQ(detail::judged_pass_budget(noisy.params, noisy, 4097), int(4097 / reach));  // 4
+  EXPECT_EQ(detail::judged_pass_budget(noisy.params, noisy, 1025), 1);
+  EXPECT_EQ(detail::judged_pass_budget(noisy.params, noisy, 257), 1) << "one pass at least";
+  EXPECT_EQ(detail::judged_pass_budget(noisy.params, noisy, 100000), 14) << "no more than the setting's own";
+  e.position_noise = 2 * e.area_spacing;
+  const AutoChoice under = choose_filter_params(e);
+  ASSERT_FALSE(detail::noise_hides_features(under.estimate));
+  EXPECT_EQ(detail::judged_pass_budget(noisy.params, under, 1025), 14) << "the features seen: the whole budget";
 }
 
 // The judge's second setting for clean positions (smooth_detail_setting): tried beside the rule's
@@ -110,7 +136,7 @@ TEST(JudgedCandidates, SmoothDetailSettingOnCleanPositionsOnly) {
   EXPECT_EQ(judged[1].sigma_f, FilterParams().sigma_f / 2);
   EXPECT_EQ(judged[1].sigma_g, FilterParams().sigma_g);
   EXPECT_EQ(judged[1].units, Units::radius);
-  EXPECT_EQ(detail::judged_pass_budget(judged[1], clean), detail::kJudgedPassBudget);
+  EXPECT_EQ(detail::judged_pass_budget(judged[1], clean, kFits), detail::kJudgedPassBudget);
 
   const AutoChoice noisy = choice_with(10, false);
   EXPECT_FALSE(detail::judge_chooses_scale(noisy));

@@ -225,10 +225,10 @@ TEST(NoisyFallback, HeldOutCheckOnlyOnNoisyPositionsForPlaneFits) {
   choice.estimate.position_noise = 0.1;
   EXPECT_FALSE(detail::tries_held_out(choice, 0));
   ASSERT_TRUE(detail::tries_held_out(choice, 16));
-  const std::vector<FilterParams> settings = detail::held_out_settings(choice);
+  const std::vector<FilterParams> settings = detail::held_out_settings(choice, 4097);
   ASSERT_EQ(settings.size(), 2u);
   EXPECT_EQ(settings[0].sigma_f, choice.params.sigma_f);
-  EXPECT_EQ(settings[0].iterations, detail::judged_pass_budget(choice.params, choice));
+  EXPECT_EQ(settings[0].iterations, detail::judged_pass_budget(choice.params, choice, 4097));
   EXPECT_EQ(settings[1].sigma_g, detail::fallback_setting(choice).sigma_g);
   EXPECT_EQ(settings[1].iterations, detail::kJudgedPassBudget);
   // Where Stein's estimate decides (independent errors with a measured noise), it does not.

@@ -195,7 +195,7 @@ bool has_independent_errors_line(const DataEstimate& e) {
   const bool curved = e.curved_share >= kCurvedShare;
   const bool flat_gentle =
       !curved && (e.crease_length < kEdgesCreaseLength || e.crease_sharpness < kGentleCreaseSharpness);
-  return !flat_gentle && e.position_noise_area_spacings() <= kFeatureOffNoise;
+  return !flat_gentle && !detail::noise_hides_features(e);
 }
 
 std::string format(const char* pattern, double value) {
@@ -234,7 +234,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
                     " (crease length " + format("%.2f", estimate.crease_length) + " per size" +
                     (faint_creases ? ", in the normals " + format("%.2f", estimate.normal_crease_length) : "") + "), " +
                     (curved ? "curved (" : "flat (") + format("%.0f", 100 * estimate.curved_share) + "% curved)";
-  if (noise > kFeatureOffNoise) {
+  if (detail::noise_hides_features(estimate)) {
     p.sigma_f = kTooNoisySigmaF;
     p.sigma_g = kSigmaGOff;
     p.iterations = kTooNoisyPasses;
@@ -290,7 +290,7 @@ AutoChoice choose_filter_params(const DataEstimate& estimate) {
              format("%g", kFineFeaturesCreaseLength) + " per size)";
     }
   }
-  const bool feature_off = p.sigma_g >= kSigmaGOff;
+  const bool feature_off = detail::feature_term_off(p);
   // The rule's sigmas are in area spacings; FilterParams' are in mean radii. The same lengths in
   // model units: sigma (area spacings) x area_spacing = sigma (mean radii) x mean_radius.
   const double sigma_f_area = p.sigma_f, sigma_g_area = p.sigma_g;
@@ -361,6 +361,14 @@ bool detail::on_independent_errors_line(const AutoChoice& choice, const FilterPa
   return params.sigma_f == line.sigma_f && params.sigma_g == line.sigma_g && params.units == line.units;
 }
 
+bool detail::noise_hides_features(const DataEstimate& estimate) {
+  return estimate.position_noise_area_spacings() > kFeatureOffNoise;
+}
+
+// In area spacings or mean radii: the two differ by a factor near 1 (the conversion above), and
+// no sigma_g the rule sets otherwise comes near a hundredth of "off".
+bool detail::feature_term_off(const FilterParams& params) { return params.sigma_g >= kSigmaGOff / 100; }
+
 bool detail::independent_normal_errors(const AutoChoice& choice) {
   const DataEstimate& e = choice.estimate;
   const double p = e.position_noise_area_spacings();
@@ -368,7 +376,7 @@ bool detail::independent_normal_errors(const AutoChoice& choice) {
   // independent errors from PCA's: a tighter bound there.
   const double max_correlation = p < kNoFilterNoise ? kCleanIndependentCorrelation : kIndependentErrorsBelow;
   return e.normal_noise_deg >= kNoFilterNormalNoiseDeg && e.normal_position_coupling < kIndependentErrorsBelow &&
-         e.normal_error_correlation < max_correlation && p <= kFeatureOffNoise &&
+         e.normal_error_correlation < max_correlation && !noise_hides_features(e) &&
          e.points >= kIndependentErrorsMinPoints;
 }
 

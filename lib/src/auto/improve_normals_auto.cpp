@@ -57,7 +57,7 @@ AutoRun stein_run(const CloudView& cloud, MutableVec3ArrayView normals_out, Norm
   std::string estimated = detail::stein_heading(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
-    params.iterations = detail::judged_pass_budget(params, run.choice);
+    params.iterations = detail::judged_pass_budget(params, run.choice, judge.scored());
     std::vector<std::vector<double>> probed_by_pass;
     auto after_probed_pass = [&](int, const std::vector<double>& normals) {
       probed_by_pass.push_back(risk.at_samples(normals.data()));
@@ -140,11 +140,12 @@ std::vector<FilterParams> detail::stein_candidates(const AutoChoice& choice) {
   return candidates;
 }
 
-int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& choice) {
+int detail::judged_pass_budget(const FilterParams& params, const AutoChoice& choice, int fit_points) {
   if (on_independent_errors_line(choice, params) || is_setting(params, plain_averaging_setting(choice))) {
     return params.iterations;
   }
-  return std::max(params.iterations, kJudgedPassBudget);
+  const int budget = std::max(params.iterations, kJudgedPassBudget);
+  return noise_hides_features(choice.estimate) ? passes_within_fits(choice, params, fit_points, budget) : budget;
 }
 
 std::string detail::judged_heading(double input_rms_deg, double own_error_deg, double error_deg, std::size_t samples,
@@ -163,7 +164,7 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
                                      const std::vector<double>& rms_by_pass) {
   std::string text = candidate == 0 ? " rule's setting"
                                     : "; sigma_f " + number(params.sigma_f) + ", sigma_g " +
-                                          (params.sigma_g >= 1e5 ? std::string("off") : number(params.sigma_g));
+                                          (feature_term_off(params) ? std::string("off") : number(params.sigma_g));
   for (std::size_t pass = 1; pass < rms_by_pass.size(); ++pass) text += " " + number(rms_by_pass[pass]);
   return text;
 }
@@ -195,12 +196,16 @@ double detail::pass_reach_points(const AutoChoice& choice, const FilterParams& p
   return geometry::kPi * reach * reach / (e.area_spacing * e.area_spacing);
 }
 
-int detail::fallback_pass_budget(const AutoChoice& choice, int plane_fits, int fit_points) {
-  if (plane_fits <= 0) return 1;
-  const double reach = pass_reach_points(choice, fallback_setting(choice));
+int detail::passes_within_fits(const AutoChoice& choice, const FilterParams& params, int fit_points, int most) {
+  const double reach = pass_reach_points(choice, params);
   if (!(reach > 0)) return 1;
   const double passes = std::floor(double(fit_points) / reach);
-  return int(std::clamp(passes, 1.0, double(kFallbackPlaneFitPasses)));
+  return int(std::clamp(passes, 1.0, double(std::max(most, 1))));
+}
+
+int detail::fallback_pass_budget(const AutoChoice& choice, int plane_fits, int fit_points) {
+  if (plane_fits <= 0) return 1;
+  return passes_within_fits(choice, fallback_setting(choice), fit_points, kFallbackPlaneFitPasses);
 }
 
 detail::Fallback detail::fallback_of(const AutoChoice& choice, int plane_fits, int fit_points, double input_rms_deg,
@@ -238,9 +243,9 @@ bool detail::tries_held_out(const AutoChoice& choice, int plane_fits) {
   return tries_fallback(choice) && !stein_decides(choice) && plane_fits > 0;
 }
 
-std::vector<FilterParams> detail::held_out_settings(const AutoChoice& choice) {
+std::vector<FilterParams> detail::held_out_settings(const AutoChoice& choice, int fit_points) {
   std::vector<FilterParams> settings = {choice.params, fallback_setting(choice)};
-  settings[0].iterations = judged_pass_budget(settings[0], choice);
+  settings[0].iterations = judged_pass_budget(settings[0], choice, fit_points);
   settings[1].iterations = kJudgedPassBudget;
   return settings;
 }
@@ -451,11 +456,11 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
   std::string judged = too_wide ? detail::too_wide_heading(judge.size(), judge.scored(), cloud.size())
                                 : detail::judged_heading(input_rms, own_error, error, judge.size(), judge.scored(),
                                                          judge.under_support());
-  const std::vector<FilterParams> checked = detail::held_out_settings(run.choice);
+  const std::vector<FilterParams> checked = detail::held_out_settings(run.choice, judge.scored());
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
     // The rule's passes are where it expects the gains to end; the judge decides, within a budget.
-    params.iterations = detail::judged_pass_budget(params, run.choice);
+    params.iterations = detail::judged_pass_budget(params, run.choice, judge.scored());
     const int setting = held_out && c == 0 ? 0 : -1;  // held_out_settings' first is this one
     if (too_wide && setting < 0) continue;
     const std::vector<double> rms_by_pass = judged_run(params, c, best_rms, too_wide ? 0 : params.iterations, setting);

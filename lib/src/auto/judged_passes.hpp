@@ -43,8 +43,16 @@ constexpr double kNoBar = -std::numeric_limits<double>::infinity();
 // sigma_g, and their extra passes were real gains the judge saw (the plane with 12-degree tilts:
 // 11.7 deg in, 1.0 after eight passes, 10.3 after one), as were the passes over PCA normals,
 // whose errors are correlated over the PCA neighbourhood (teddy at 0.25% noise, PCA-16: 28.4 deg
-// in, 22.9 after one pass, 8.95 after eight).
-int judged_pass_budget(const FilterParams& params, const AutoChoice& choice);
+// in, 22.9 after one pass, 8.95 after eight). Where the noise hides the features
+// (noise_hides_features: the rule averages plainly, up to 14 passes), its passes are as many as
+// the judge's fits vouch for (passes_within_fits, `fit_points` SurfaceJudge::scored): with no
+// feature term each pass diffuses the normals over its reach, and detail finer than the fits is
+// smoothed by the passes and missed by the judge alike, who scores that as a gain (the cup at 20k
+// points and 0.6% noise, PCA-16: 22.2 deg in, 25.9 after the judge's passes, 19.2 held to the
+// fits'; docs/auto.md, "Plain averaging held to the judge's fits"). Not on smooth shapes at lesser
+// noise, whose plain averaging has no detail to lose (the sphere at 0.5 spacings, PCA-16: 1.35
+// deg after the judge's passes, 2.25 held to its fits of 257 points).
+int judged_pass_budget(const FilterParams& params, const AutoChoice& choice, int fit_points);
 
 // Whether the choice's estimate shows input normals whose errors are independent of the
 // positions and of each other (normal_position_coupling and normal_error_correlation both under
@@ -59,6 +67,12 @@ bool independent_normal_errors(const AutoChoice& choice);
 // estimate (independent_errors_setting, where independent_normal_errors holds): the rule's own
 // setting or the judge's second candidate. choose_filter_params.cpp.
 bool on_independent_errors_line(const AutoChoice& choice, const FilterParams& params);
+// Whether the position noise is so thick (over kFeatureOffNoise area spacings) that the estimate
+// cannot see the edges: the rule then averages plainly. choose_filter_params.cpp.
+bool noise_hides_features(const DataEstimate& estimate);
+// Whether `params` switches the feature term off (sigma_g at the rule's "off", kSigmaGOff, in
+// area spacings or mean radii): plain averaging. choose_filter_params.cpp.
+bool feature_term_off(const FilterParams& params);
 
 // The setting the rule's line for input normals with errors independent of the positions gives
 // `choice`'s estimate (mean radii, the choice's units, mean radius and stop rule); the choice's
@@ -171,6 +185,9 @@ constexpr int kFallbackPlaneFitPasses = 4;
 // points and 0.6% noise, PCA-64: 16.83 deg in, 12.98 after one pass, 10.42 after four; the
 // fertility at 20k points and 0.6%, PCA-16: 23.81 after one, 17.14 after three).
 int fallback_pass_budget(const AutoChoice& choice, int plane_fits, int fit_points);
+// The passes of `params` that reach together no more points than fits of `fit_points` hold (k
+// passes reach k times one pass's pass_reach_points, as above), from 1 to `most`.
+int passes_within_fits(const AutoChoice& choice, const FilterParams& params, int fit_points, int most);
 
 // The fallback a judged run tries where its settings keep the input, if any (tries_fallback or
 // tries_narrow_pass): its setting (with fallback_pass_budget's passes) and bar, and its number for
@@ -201,7 +218,7 @@ bool tries_held_out(const AutoChoice& choice, int plane_fits);
 // the fallback's (up to kJudgedPassBudget passes). Plain averaging at the paper's sigma_f as a
 // third never scored strictly below both on the 48 noisy PCA rows of the real meshes and
 // held-out models, and cost a list build and its passes (docs/auto.md).
-std::vector<FilterParams> held_out_settings(const AutoChoice& choice);
+std::vector<FilterParams> held_out_settings(const AutoChoice& choice, int fit_points);
 // Whether the judge vetoes a pass of the held-out check: where it scores the pass (`judged_deg`)
 // above the input (`input_deg`). The check's score weighs errors as 1 - cos does, nearly their
 // squares, and a pass that shrinks a few large errors and grows many small ones may gain there

@@ -69,7 +69,7 @@ void stein_run(MPI_Comm comm, const CloudView& local, MutableVec3ArrayView norma
   std::string estimated = pnf::detail::stein_heading(run.choice);
   for (std::size_t c = 0; c < candidates.size(); ++c) {
     FilterParams params = candidates[c];
-    params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
+    params.iterations = pnf::detail::judged_pass_budget(params, run.choice, root.fit_points);
     detail::PassJudging probing;
     probing.root = rank == 0 ? &root : nullptr;
     probing.probing = true;
@@ -165,7 +165,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
                         pnf::detail::judged_outcome(0, 0);
     return run;
   }
-  const std::vector<FilterParams> checked_settings = pnf::detail::held_out_settings(run.choice);
+  const std::vector<FilterParams> checked_settings = pnf::detail::held_out_settings(run.choice, root.fit_points);
   std::vector<Vec3> checked(held_out ? local.size() : 0), checked_trial(held_out ? local.size() : 0);
   double checked_best = std::numeric_limits<double>::infinity();
   FilterParams checked_params;
@@ -197,7 +197,7 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
     // Where the judge's fits are too wide, only the held-out check runs (as one process runs it).
     if (too_wide && !(held_out && c == 0)) continue;
     FilterParams params = candidates[c];
-    params.iterations = pnf::detail::judged_pass_budget(params, run.choice);
+    params.iterations = pnf::detail::judged_pass_budget(params, run.choice, root.fit_points);
     detail::PassJudging judging;
     judging.root = rank == 0 ? &root : nullptr;
     judging.budget = too_wide ? 0 : params.iterations;
