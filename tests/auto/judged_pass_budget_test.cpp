@@ -120,6 +120,12 @@ TEST(JudgedPassBudget, WhereTheNoiseHidesTheFeaturesThePassesTheJudgesFitsHold) 
   const AutoChoice under = choose_filter_params(e);
   ASSERT_FALSE(detail::noise_hides_features(under.estimate));
   EXPECT_EQ(detail::judged_pass_budget(noisy.params, under, 1025), 14) << "the features seen: the whole budget";
+  // The judged text says where the rule's "up to 14 passes" were held to fewer, and only there.
+  EXPECT_EQ(detail::judged_budget_note(noisy.params, 4),
+            " (its 14 passes held to 4, as many as the judge's fits reach)");
+  EXPECT_EQ(detail::judged_budget_note(noisy.params, 14), "");
+  ASSERT_LE(under.params.iterations, 8);
+  EXPECT_EQ(detail::judged_budget_note(under.params, 8), "") << "a budget at or above the rule's passes";
 }
 
 // The judge's second setting for clean positions (smooth_detail_setting): tried beside the rule's

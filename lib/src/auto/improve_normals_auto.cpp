@@ -169,6 +169,12 @@ std::string detail::judged_candidate(std::size_t candidate, const FilterParams& 
   return text;
 }
 
+std::string detail::judged_budget_note(const FilterParams& setting, int budget) {
+  if (budget >= setting.iterations) return "";
+  return " (its " + std::to_string(setting.iterations) + " passes held to " + std::to_string(budget) +
+         ", as many as the judge's fits reach)";
+}
+
 std::string detail::judged_outcome(std::size_t best_candidate, int passes_kept) {
   if (passes_kept == 0) return ": the input normals kept";
   const char* names[] = {"the rule's setting", "the other setting", "the third setting",
@@ -464,7 +470,10 @@ AutoRun improve_normals_auto(const CloudView& cloud, MutableVec3ArrayView normal
     const int setting = held_out && c == 0 ? 0 : -1;  // held_out_settings' first is this one
     if (too_wide && setting < 0) continue;
     const std::vector<double> rms_by_pass = judged_run(params, c, best_rms, too_wide ? 0 : params.iterations, setting);
-    if (!too_wide) judged += detail::judged_candidate(c, params, rms_by_pass);
+    if (!too_wide) {
+      judged += detail::judged_candidate(c, params, rms_by_pass) +
+                detail::judged_budget_note(candidates[c], params.iterations);
+    }
   }
   const detail::Fallback fallback =
       detail::fallback_of(run.choice, judge.plane_fits(), judge.scored(), input_rms, error);

@@ -313,6 +313,9 @@ bool judge_chooses_scale(const AutoChoice& choice);
 std::string judged_heading(double input_rms_deg, double own_error_deg, double error_deg, std::size_t samples,
                            int fit_points, int under_support);
 std::string judged_candidate(std::size_t candidate, const FilterParams& params, const std::vector<double>& rms_by_pass);
+// ... where judged_pass_budget held a setting to fewer passes than it asks (the rule's "up to 14
+// passes" where the noise hides the features), by how many; else empty.
+std::string judged_budget_note(const FilterParams& setting, int budget);
 std::string judged_outcome(std::size_t best_candidate, int passes_kept);
 // ... a fallback's RMS by pass and the bar it had to beat.
 std::string judged_fallback(const Fallback& fallback, const std::vector<double>& rms_by_pass);

@@ -214,7 +214,10 @@ DistributedAutoRun improve_normals_auto(MPI_Comm caller_comm, const CloudView& l
                         : pnf::detail::judged_heading(judging.rms_by_pass[0], judging.own_error_deg, judging.error_deg,
                                                       judging.samples, judging.fit_points, judging.under_support);
     }
-    if (!too_wide) judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass);
+    if (!too_wide) {
+      judged += pnf::detail::judged_candidate(c, params, judging.rms_by_pass) +
+                pnf::detail::judged_budget_note(candidates[c], params.iterations);
+    }
     if (held_out && c == 0) checked_run(judging, params, 0, summary);
     if (c == 0 || rms < best_rms) {
       best_candidate = c;
