@@ -452,13 +452,9 @@ PreparedCloud prepare_cloud(const CloudView& cloud, const FilterParams& params, 
   // Positions reach the kernels as floats: re-centred on the middle of the points (not of their
   // box, which one far point can move away from all the others).
   const Vec3 centre = whole_frame ? part->whole_centre : sample_median(cloud.positions, out.order);
-  const std::size_t n = cloud.size();
-  std::vector<double> positions(3 * n);
-  for (std::size_t k = 0; k < n; ++k) {
-    for (int c = 0; c < 3; ++c) positions[3 * k + c] = cloud.positions.get(out.order[k], c) - centre[c];
-  }
   out.normals = unit_rows(cloud.normals, &out.order);
-  out.search = std::make_unique<SpatialIndex>(std::move(positions));  // no copy: searched in place
+  // No copy: searched in place.
+  out.search = std::make_unique<SpatialIndex>(centred_rows(cloud.positions, centre, &out.order));
   MeanRadius radius;
   if (params.units == Units::radius) {
     radius = resolve_mean_radius(params.mean_radius, cloud.radii, cloud.size(),

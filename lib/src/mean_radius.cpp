@@ -36,6 +36,16 @@ Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32
   return axis_medians(xyz);
 }
 
+std::vector<double> centred_rows(const Vec3ArrayView& positions, const Vec3& centre,
+                                 const std::vector<std::uint32_t>* order) {
+  std::vector<double> rows(3 * positions.count);
+  for (std::size_t k = 0; k < positions.count; ++k) {
+    const Vec3 p = positions.at(order ? (*order)[k] : k);
+    for (int c = 0; c < 3; ++c) rows[3 * k + std::size_t(c)] = p[std::size_t(c)] - centre[std::size_t(c)];
+  }
+  return rows;
+}
+
 void throw_cannot_estimate_mean_radius(std::size_t points) {
   throw Error(ErrorCode::invalid_input,
               "cannot estimate the mean surfel radius of " + std::to_string(points) +
@@ -70,13 +80,7 @@ double estimate_mean_radius(const Vec3ArrayView& positions) {
   const std::size_t n = positions.count;
   if (n == 0) return 0;
   const std::vector<std::uint32_t> order = detail::morton_order(positions);
-  const Vec3 centre = detail::sample_median(positions, order);
-  std::vector<double> centred(3 * n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 p = positions.at(order[k]);
-    for (int c = 0; c < 3; ++c) centred[3 * k + c] = p[c] - centre[c];
-  }
-  const detail::SpatialIndex index(std::move(centred));
+  const detail::SpatialIndex index(detail::centred_rows(positions, detail::sample_median(positions, order), &order));
   return detail::estimate_mean_radius(index);
 }
 

@@ -28,6 +28,10 @@ constexpr std::size_t kMaxSpacingSamples = 100000;
 // the positions' Morton order (morton_order). A distributed run takes the same samples and the
 // same medians (mpi/mean_radius_mpi.cpp). N > 0.
 Vec3 sample_median(const Vec3ArrayView& positions, const std::vector<std::uint32_t>& curve);
+// x y z rows of `positions` less `centre`, in double (a far-away scan loses no digits): in the
+// order `order` where given (the Morton curve: the filter's frame), else in the input's.
+std::vector<double> centred_rows(const Vec3ArrayView& positions, const Vec3& centre,
+                                 const std::vector<std::uint32_t>* order = nullptr);
 // Per axis, the lower middle of `xyz` (x y z per point, at least one point): sample_median's
 // medians, and a distributed run's over the samples it gathers.
 Vec3 axis_medians(const std::vector<double>& xyz);

@@ -105,12 +105,8 @@ DataEstimate detail::estimate_data(const CloudView& cloud, SurfaceJudge* judge,
   // order.
   const std::vector<std::uint32_t> curve = detail::morton_order(cloud.positions);
   const Vec3 centre = detail::sample_median(cloud.positions, curve);  // the filter's origin
-  std::vector<double> centred_input(count * 3);
-  for (std::size_t i = 0; i < count; ++i) {
-    const Vec3 p = cloud.positions.at(i);
-    for (int axis = 0; axis < 3; ++axis) centred_input[i * 3 + axis] = p[axis] - centre[axis];
-  }
-  const detail::SpatialIndex index(std::move(centred_input), detail::SpatialIndex::Layout::any_order);
+  const detail::SpatialIndex index(detail::centred_rows(cloud.positions, centre),
+                                   detail::SpatialIndex::Layout::any_order);
   const std::vector<double>& centred = index.positions();
   const std::vector<std::uint32_t> rank = detail::ranks_of(curve);
   // Each scale's samples are searched once (sample_neighbourhoods) and fitted once, in parallel:

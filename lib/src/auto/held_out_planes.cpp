@@ -37,13 +37,7 @@ HeldOutPlanes::HeldOutPlanes(const Vec3ArrayView& positions, const std::vector<d
   std::vector<std::size_t> rows(m);
   for (std::size_t s = 0; s < m; ++s) rows[s] = candidates[s * candidates.size() / m];
 
-  const Vec3 centre = sample_median(positions, curve);
-  std::vector<double> centred(3 * n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 p = positions.at(i);
-    for (int k = 0; k < 3; ++k) centred[3 * i + std::size_t(k)] = p[std::size_t(k)] - centre[std::size_t(k)];
-  }
-  const SpatialIndex index(std::move(centred), SpatialIndex::Layout::any_order);
+  const SpatialIndex index(centred_rows(positions, sample_median(positions, curve)), SpatialIndex::Layout::any_order);
   const std::vector<double>& xyz = index.positions();
   const std::size_t searched = std::min(n, kSearchedPerPlanePoint * kHeldOutPlanePoints + 1);
   std::vector<double> planes(3 * m);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cloud_checks.hpp"
+#include "mean_radius_internal.hpp"
 #include "orient_normals.hpp"
 #include "pnf/bounding_box.hpp"
 #include "pnf/error.hpp"
@@ -157,10 +158,7 @@ void estimate(const Vec3ArrayView& positions, MutableVec3ArrayView normals_out, 
   // The k − 1 nearest other points of every point, by an exact kd-tree search. Coordinates are
   // taken relative to the bounding-box centre so that a translated cloud gives the same neighbours, up
   // to rounding at the scale of the cloud rather than of its offset.
-  std::vector<double> centred(3 * n);
-  for (std::size_t s = 0; s < n; ++s) {
-    for (int axis = 0; axis < 3; ++axis) centred[3 * s + axis] = sorted[s][axis] - centre[axis];
-  }
+  std::vector<double> centred = detail::centred_rows(positions, centre, &order);
   auto stage_start = Clock::now();
   detail::WorkPoll poll;
   if (progress) {
