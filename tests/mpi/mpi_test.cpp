@@ -420,6 +420,14 @@ TEST(MpiAuto, JudgesTheFallbacksPassesAsOneProcess) {
   expect_house_with_pca_normals_as_one_process(0.8, 16, ": the fallback, 3 passes kept", 4000);
 }
 
+// The same where the noise hides the features (the house at 4 spacings with PCA-16 normals, 10000
+// points, so that the judge's fits of 4097 hold under half of it): the rule's plain averaging is
+// held to the passes the judge's fits reach (judged_pass_budget), from rank 0's broadcast fit count.
+TEST(MpiAuto, HoldsPlainAveragingToTheJudgesFitsAsOneProcess) {
+  expect_house_with_pca_normals_as_one_process(4.0, 16, "(its 14 passes held to 4, as many as the judge's fits reach)",
+                                               10000);
+}
+
 // The same on clean positions, where the judge tries the smooth-detail setting after the rule's
 // (lib/src/auto/judged_passes.hpp, tries_smooth_detail): its passes are judged against the best
 // of the rule's, and end where one process's end.
